@@ -1,0 +1,59 @@
+// nidevo-synth: renders a synthetic RGB-D sequence with exact ground truth as a TUM folder.
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "absl/flags/flag.h"
+#include "cli.hpp"
+#include "nidevo/synth_sequence.hpp"
+
+ABSL_FLAG(std::string, scene, "office", "Scene: office, corridor, corner, gap");
+ABSL_FLAG(std::string, texture, "rich", "Texture richness: rich, low, none");
+ABSL_FLAG(std::string, noise, "none",
+          "Sensor noise: none, icl (ICL-NUIM-like depth and RGB noise)");
+ABSL_FLAG(int, frames, 300, "Number of frames");
+ABSL_FLAG(double, rate, 30.0, "Frame rate in Hz");
+ABSL_FLAG(double, speed, 0.25, "Mean camera speed along the path in m/s");
+ABSL_FLAG(uint64_t, seed, 1, "Seed of the handheld shake and the noise");
+ABSL_FLAG(std::string, camera, "icl",
+          "Camera preset: icl, icl_fy_positive, tum_fr1, tum_fr2, tum_fr3");
+ABSL_FLAG(std::string, out, "", "Output folder (required)");
+
+int main(int argc, char** argv) {
+  auto args = nidevo::cli::init(
+      argc, argv,
+      "Renders a synthetic RGB-D sequence (ray-cast planes and boxes) with exact ground truth into "
+      "a TUM-format folder.\nUsage: nidevo-synth --out DIR [--scene office] [--texture rich] "
+      "[--noise none] [--frames 300]");
+  if (!args.empty()) return nidevo::cli::usageError("unexpected argument '" + args[0] + "'");
+  const std::string out = absl::GetFlag(FLAGS_out);
+  if (out.empty()) return nidevo::cli::usageError("--out is required");
+  try {
+    nidevo::synth::SequenceConfig config;
+    config.scene = absl::GetFlag(FLAGS_scene);
+    config.texture = nidevo::synth::parseTextureRichness(absl::GetFlag(FLAGS_texture));
+    config.noise = nidevo::synth::parseSensorNoise(absl::GetFlag(FLAGS_noise));
+    config.frames = absl::GetFlag(FLAGS_frames);
+    config.rate_hz = absl::GetFlag(FLAGS_rate);
+    config.speed = absl::GetFlag(FLAGS_speed);
+    config.seed = absl::GetFlag(FLAGS_seed);
+    auto camera = nidevo::cameraPreset(absl::GetFlag(FLAGS_camera));
+    if (!camera) {
+      return nidevo::cli::usageError("unknown --camera '" + absl::GetFlag(FLAGS_camera) + "' (" +
+                                     nidevo::cameraPresetNames() + ")");
+    }
+    config.camera = *camera;
+    const auto start = std::chrono::steady_clock::now();
+    nidevo::synth::SyntheticSequence sequence(config);
+    sequence.writeTumFolder(out);
+    const double secs =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("wrote %d frames of '%s' (%s texture, %s noise) to %s in %.1f s (%.1f frames/s)\n",
+                config.frames, config.scene.c_str(), nidevo::synth::toString(config.texture),
+                nidevo::synth::toString(config.noise), out.c_str(), secs, config.frames / secs);
+  } catch (const std::exception& e) {
+    std::cerr << "nidevo-synth: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,79 @@
+#include "nidevo/camera.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace nidevo {
+namespace {
+
+std::string tempFile(const std::string& name, const std::string& content) {
+  auto path = std::filesystem::temp_directory_path() / ("nidevo_camera_" + name);
+  std::ofstream(path) << content;
+  return path.string();
+}
+
+TEST(Camera, PresetsAreValidAndIclHasNegativeFy) {
+  for (const char* name : {"icl", "icl_fy_positive", "tum_fr1", "tum_fr2", "tum_fr3"}) {
+    auto c = cameraPreset(name);
+    ASSERT_TRUE(c.has_value()) << name;
+    EXPECT_EQ(c->validate(), "") << name;
+  }
+  EXPECT_DOUBLE_EQ(cameraPreset("icl")->fy, -480.0);
+  EXPECT_FALSE(cameraPreset("nope").has_value());
+}
+
+TEST(Camera, BackprojectThenProjectIsIdentityWithNegativeFy) {
+  Camera c = *cameraPreset("icl");
+  const Eigen::Vector3f p = c.backproject(100.f, 50.f, 2.5f);
+  EXPECT_GT(p.y(), 0.f);  // fy < 0: image top is +y
+  const Eigen::Vector2d uv = c.project(p.cast<double>());
+  EXPECT_NEAR(uv.x(), 100.0, 1e-4);
+  EXPECT_NEAR(uv.y(), 50.0, 1e-4);
+}
+
+TEST(Camera, ValidateNamesTheBadField) {
+  Camera c;
+  c.fx = 0;
+  EXPECT_NE(c.validate().find("fx"), std::string::npos);
+  c = Camera{};
+  c.depth_scale = -1;
+  EXPECT_NE(c.validate().find("depth_scale"), std::string::npos);
+  c = Camera{};
+  c.width = 0;
+  EXPECT_NE(c.validate().find("width"), std::string::npos);
+}
+
+TEST(Camera, FileRoundTrip) {
+  Camera c = *cameraPreset("tum_fr1");
+  const auto path = (std::filesystem::temp_directory_path() / "nidevo_camera_rt.txt").string();
+  writeCameraFile(path, c);
+  const Camera r = readCameraFile(path);
+  EXPECT_EQ(r.fx, c.fx);
+  EXPECT_EQ(r.fy, c.fy);
+  EXPECT_EQ(r.cx, c.cx);
+  EXPECT_EQ(r.cy, c.cy);
+  EXPECT_EQ(r.width, c.width);
+  EXPECT_EQ(r.height, c.height);
+  EXPECT_EQ(r.depth_scale, c.depth_scale);
+}
+
+TEST(Camera, BadFilesNameFileAndLine) {
+  auto expect_error = [](const std::string& path, const std::string& needle) {
+    try {
+      readCameraFile(path);
+      FAIL() << "no error for " << path;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect_error(tempFile("a.txt", "fx 500\nfy\n"), "a.txt:2");
+  expect_error(tempFile("b.txt", "fx 500\nfoo 3\n"), "unknown key 'foo'");
+  expect_error(tempFile("c.txt", "fx 500\nfy 500\ncx 1\ncy 1\nwidth 10\n"), "missing key 'height'");
+  expect_error(tempFile("d.txt", "fx 0\nfy 500\ncx 1\ncy 1\nwidth 10\nheight 10\n"), "fx");
+  expect_error("/nonexistent/camera.txt", "cannot open");
+}
+
+}  // namespace
+}  // namespace nidevo
