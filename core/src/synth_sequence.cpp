@@ -204,16 +204,20 @@ double SyntheticSequence::distanceToScene(const Vector3d& p) const {
 }
 
 RenderedFrame SyntheticSequence::render(int index) const {
+  return renderAt(groundTruth(index), timestamp(index), uint64_t(index));
+}
+
+RenderedFrame SyntheticSequence::renderAt(const Eigen::Isometry3d& T, double timestamp,
+                                          uint64_t noise_index) const {
   const Camera& cam = config_.camera;
-  const Eigen::Isometry3d T = groundTruth(index);
   const auto rects = rectsInCamera(scene_, T);
   const Vector3d light_cam = T.linear().transpose() * scene_.light_dir;
   const bool noisy = config_.noise == SensorNoise::kIclLike;
-  std::mt19937_64 rng(config_.seed * 1000003ull + uint64_t(index));
+  std::mt19937_64 rng(config_.seed * 1000003ull + noise_index);
   std::normal_distribution<double> gauss(0.0, 1.0);
 
   RenderedFrame out;
-  out.timestamp = timestamp(index);
+  out.timestamp = timestamp;
   out.rgb.assign(size_t(cam.width) * size_t(cam.height) * 3, 0);
   out.frame.timestamp = out.timestamp;
   out.frame.gray.resize(cam.width, cam.height);

@@ -58,6 +58,9 @@ class SyntheticSequence {
   Trajectory groundTruthTrajectory() const;
 
   RenderedFrame render(int i) const;
+  // Renders an arbitrary pose; noise_index seeds the sensor noise.
+  RenderedFrame renderAt(const Eigen::Isometry3d& T_world_cam, double timestamp,
+                         uint64_t noise_index) const;
   RgbdFrame renderFrame(int i) const { return render(i).frame; }
   // Clean depth of an arbitrary pose, used by tests to check geometry.
   DepthImageF renderDepth(const Eigen::Isometry3d& T_world_cam) const;

@@ -1,0 +1,58 @@
+#pragma once
+// Stage 3b: kernel cross-correlator with a Gaussian kernel (paper Eqs. 11-15), on FFTW single
+// precision. Plans and buffers are made once per instance; train/match do not allocate.
+#include <complex>
+#include <vector>
+
+namespace nidevo {
+
+struct KccMatch {
+  // Shift of the current image against the trained one: cur(u, v) ~ key(u - du, v - dv).
+  double du = 0;
+  double dv = 0;
+  double peak = 0;
+  double psr = 0;  // Eq. 17, side lobe excludes (2*exclusion+1)^2 around the peak
+};
+
+class KernelCrossCorrelator {
+ public:
+  // label_sigma 0: delta label (the authors'); > 0: Gaussian label of that many pixels.
+  KernelCrossCorrelator(int width, int height, int channels, double sigma, double lambda,
+                        double label_sigma = 0.0);
+  ~KernelCrossCorrelator();
+  KernelCrossCorrelator(const KernelCrossCorrelator&) = delete;
+  KernelCrossCorrelator& operator=(const KernelCrossCorrelator&) = delete;
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int channels() const { return channels_; }
+
+  // channels[c] points at width*height floats (row-major). Label: a delta at the origin.
+  void train(const float* const* channels);
+  bool trained() const { return trained_; }
+  KccMatch match(const float* const* channels, bool subpixel, int psr_exclusion);
+  // The last response (width*height, peak at the shift), for tests and debugging.
+  const float* response() const { return response_; }
+
+ private:
+  void forward(const float* in, std::complex<float>* out);
+  void gaussianCorrelation(const std::complex<float>* const* a, double aa,
+                           const std::complex<float>* const* b, double bb, float* out);
+
+  int width_, height_, channels_;
+  double sigma_, lambda_;
+  size_t n_real_, n_complex_;
+  void* plan_forward_ = nullptr;
+  void* plan_inverse_ = nullptr;
+  float* real_ = nullptr;
+  float* response_ = nullptr;
+  std::complex<float>* spectrum_ = nullptr;
+  std::complex<float>* alpha_hat_ = nullptr;
+  std::complex<float>* label_hat_ = nullptr;
+  std::vector<std::complex<float>*> key_hat_;
+  std::vector<std::complex<float>*> cur_hat_;
+  double key_energy_ = 0;
+  bool trained_ = false;
+};
+
+}  // namespace nidevo

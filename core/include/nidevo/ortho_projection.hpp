@@ -1,0 +1,44 @@
+#pragma once
+// Stage 3a: orthographic projection of a rotated point cloud (paper Eq. 3) into grey and depth
+// images: u = x / r + W/2, v = y / r + H/2, nearest point wins.
+#include <Eigen/Core>
+#include <vector>
+
+namespace nidevo {
+
+// Input cloud: points with z > 0 are valid; intensity in [0, 1] per point.
+struct CloudView {
+  const Eigen::Vector3f* points = nullptr;
+  const float* intensity = nullptr;
+  size_t size = 0;
+};
+
+struct OrthoImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> gray;   // 0.5 where empty (authors)
+  std::vector<float> depth;  // metres along the projection axis, 0 where empty
+  void resize(int w, int h);
+  int filledCount() const;
+};
+
+class OrthoProjector {
+ public:
+  // Resolution r (m/px) such that a fraction `inlier_fraction` of the rotated points falls inside
+  // a width x height image. Returns 0 when the cloud has no valid point.
+  double resolutionFor(const CloudView& cloud, const Eigen::Matrix3f& R, int width, int height,
+                       double inlier_fraction);
+  // Projects R * p for every valid p. Reuses `out`'s buffers.
+  static void project(const CloudView& cloud, const Eigen::Matrix3f& R, double resolution,
+                      int width, int height, OrthoImage* out);
+  // Fills runs of at most max_gap empty cells, first along rows then along columns, by linear
+  // interpolation when the cells on both sides lie on one surface (depths within
+  // relative_depth_jump). A slanted surface spreads its points apart in the projection; left
+  // alone, those holes form a moire that the correlator would lock onto.
+  static void fillGaps(OrthoImage* image, int max_gap, float relative_depth_jump);
+
+ private:
+  std::vector<float> scratch_;
+};
+
+}  // namespace nidevo

@@ -1,0 +1,44 @@
+#pragma once
+// Stage 2a: planes seen in both the keyframe and the current normal map, found pixel by pixel
+// (paper Alg. 1): overlapping co-planar pixels grouped into modes, one median normal per frame.
+#include <Eigen/Core>
+#include <vector>
+
+#include "nidevo/normal_map.hpp"
+
+namespace nidevo {
+
+struct PlanePair {
+  Eigen::Vector3f key;  // plane normal in the keyframe
+  Eigen::Vector3f cur;  // the same plane's normal in the current frame
+  int pixels = 0;
+};
+
+struct PlaneTrackingParams {
+  int border = 5;            // in normal-map pixels
+  float overlap_dot = 0.9f;
+  float crease_dot = 0.999f;
+  float mode_dot = 0.95f;
+  int min_plane_pixels = 1000;
+  int max_modes = 16;
+};
+
+struct PlaneTrackingResult {
+  int overlap_pixels = 0;        // pixels co-planar in both frames
+  std::vector<PlanePair> planes; // modes with at least min_plane_pixels, largest first
+};
+
+class PlaneTracker {
+ public:
+  // key and cur must have the same size. Reuses its buffers; `out->planes` keeps its capacity.
+  void track(const NormalMap& key, const NormalMap& cur, const PlaneTrackingParams& params,
+             PlaneTrackingResult* out);
+
+ private:
+  std::vector<int8_t> mode_of_;
+  std::vector<Eigen::Vector3f> seeds_;
+  std::vector<int> counts_;
+  std::vector<float> scratch_;
+};
+
+}  // namespace nidevo

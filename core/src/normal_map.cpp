@@ -1,0 +1,91 @@
+#include "nidevo/normal_map.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+namespace nidevo {
+
+void NormalMap::resize(int w, int h) {
+  width = w;
+  height = h;
+  normal.resize(size_t(w) * size_t(h));
+  valid.resize(size_t(w) * size_t(h));
+}
+
+int NormalMap::validCount() const {
+  int n = 0;
+  for (uint8_t v : valid) n += v;
+  return n;
+}
+
+void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, int stride,
+                               int cell_size, float depth_discontinuity, float min_depth,
+                               float max_depth, NormalMap* out) {
+  const Camera cam = camera.subsampled(stride);
+  const int W = depth.width / stride, H = depth.height / stride;
+  const size_t n = size_t(W) * size_t(H);
+  out->resize(W, H);
+  points_.resize(n);
+  raw_.resize(n);
+  tmp_.resize(n);
+
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      float z = depth.at(u * stride, v * stride);
+      if (!(z >= min_depth && z <= max_depth)) z = 0.f;  // also rejects NaN
+      points_[size_t(v) * W + u] = cam.backproject(float(u), float(v), z);
+    }
+  }
+
+  // Central differences (Eq. 4); a missing neighbour or a depth jump leaves no normal.
+  auto usable = [&](const Eigen::Vector3f& p, float z0) {
+    return p.z() > 0.f && std::abs(p.z() - z0) <= depth_discontinuity * z0;
+  };
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const size_t i = size_t(v) * W + u;
+      raw_[i].setZero();
+      const Eigen::Vector3f& p = points_[i];
+      if (u == 0 || v == 0 || u == W - 1 || v == H - 1 || p.z() <= 0.f) continue;
+      const Eigen::Vector3f &l = points_[i - 1], &r = points_[i + 1], &t = points_[i - W],
+                            &b = points_[i + W];
+      if (!usable(l, p.z()) || !usable(r, p.z()) || !usable(t, p.z()) || !usable(b, p.z())) continue;
+      Eigen::Vector3f nrm = (r - l).cross(b - t);
+      const float len = nrm.norm();
+      if (!(len > 0.f)) continue;
+      nrm /= len;
+      if (nrm.dot(p) > 0.f) nrm = -nrm;
+      raw_[i] << nrm, 1.f;
+    }
+  }
+
+  // Separable box filter of side cell_size over (normal, count); O(1) per pixel.
+  const int lo = cell_size / 2, hi = cell_size - 1 - lo;
+  for (int v = 0; v < H; ++v) {
+    const Eigen::Vector4f* row = &raw_[size_t(v) * W];
+    Eigen::Vector4f* dst = &tmp_[size_t(v) * W];
+    Eigen::Vector4f acc = Eigen::Vector4f::Zero();
+    for (int u = 0; u <= std::min(hi, W - 1); ++u) acc += row[u];
+    for (int u = 0; u < W; ++u) {
+      dst[u] = acc;
+      if (u + hi + 1 < W) acc += row[u + hi + 1];
+      if (u - lo >= 0) acc -= row[u - lo];
+    }
+  }
+  for (int u = 0; u < W; ++u) {
+    Eigen::Vector4f acc = Eigen::Vector4f::Zero();
+    for (int v = 0; v <= std::min(hi, H - 1); ++v) acc += tmp_[size_t(v) * W + u];
+    for (int v = 0; v < H; ++v) {
+      const size_t i = size_t(v) * W + u;
+      const Eigen::Vector3f s = acc.head<3>();
+      const float len = s.norm();
+      const bool ok = raw_[i].w() > 0.f && len > 1e-6f;
+      out->valid[i] = ok;
+      out->normal[i] = ok ? Eigen::Vector3f(s / len) : Eigen::Vector3f::Zero();
+      if (v + hi + 1 < H) acc += tmp_[size_t(v + hi + 1) * W + u];
+      if (v - lo >= 0) acc -= tmp_[size_t(v - lo) * W + u];
+    }
+  }
+}
+
+}  // namespace nidevo

@@ -1,0 +1,328 @@
+#include "nidevo/odometry.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "nidevo/rotation_solver.hpp"
+
+namespace nidevo {
+
+using Eigen::Isometry3d;
+using Eigen::Matrix3d;
+
+const char* toString(TrackingState s) {
+  switch (s) {
+    case TrackingState::kOk: return "OK";
+    case TrackingState::kDegraded: return "DEGRADED";
+    case TrackingState::kLost: return "LOST";
+  }
+  return "?";
+}
+
+const char* toString(RotationSource s) {
+  switch (s) {
+    case RotationSource::kInitial: return "initial";
+    case RotationSource::kPlanes: return "planes";
+    case RotationSource::kOnePlane: return "one_plane";
+    case RotationSource::kPrediction: return "prediction";
+  }
+  return "?";
+}
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Constant-velocity prediction from the last two poses.
+template <typename T>
+T predictNext(const T& prev, const T& prevprev, bool have_two) {
+  return have_two ? T(prev * (prevprev.inverse() * prev)) : prev;
+}
+
+}  // namespace
+
+struct Odometry::RotationState {
+  bool has_keyframe = false;
+  NormalMap key_normals;
+  Matrix3d R_world_key = Matrix3d::Identity();
+  int frames_since_key = 0;
+  Matrix3d R_prev = Matrix3d::Identity(), R_prevprev = Matrix3d::Identity();
+  int history = 0;
+  PlaneTracker tracker;
+  PlaneTrackingResult tracked;
+};
+
+struct Odometry::TranslationState {
+  TranslationState(const OdometryConfig& c)
+      : kcc(c.projection_width, c.projection_height, c.kcc_use_depth ? 2 : 1, c.kcc_sigma,
+            c.kcc_lambda) {}
+  bool has_keyframe = false;
+  OrthoImage key, cur;
+  std::vector<float> key_depth_channel, cur_depth_channel;
+  float key_mean_depth = 0;
+  double resolution = 0;
+  Isometry3d T_world_key = Isometry3d::Identity();
+  Isometry3d T_prev = Isometry3d::Identity(), T_prevprev = Isometry3d::Identity();
+  int history = 0;
+  int degraded_frames = 0;
+  KernelCrossCorrelator kcc;
+  OrthoProjector projector;
+  DepthShiftEstimator depth_shift;
+};
+
+Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
+    : camera_(camera), config_(config) {
+  if (auto e = camera.validate(); !e.empty()) throw std::invalid_argument("camera: " + e);
+  if (auto e = config.validate(); !e.empty()) throw std::invalid_argument("config: " + e);
+  if (camera.width / config.normal_stride < 2 * config.cell_size + 8 ||
+      camera.height / config.normal_stride < 2 * config.cell_size + 8) {
+    throw std::invalid_argument("camera: image too small for normal_stride and cell_size");
+  }
+  rot_ = std::make_unique<RotationState>();
+  trans_ = std::make_unique<TranslationState>(config_);
+}
+
+Odometry::~Odometry() = default;
+
+void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (frame.depth.width != camera_.width || frame.depth.height != camera_.height ||
+      frame.depth.size() != size_t(camera_.width) * size_t(camera_.height)) {
+    throw std::invalid_argument("depth image is " + std::to_string(frame.depth.width) + "x" +
+                                std::to_string(frame.depth.height) + " but the camera is " +
+                                std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
+  }
+  if (frame.gray.width != camera_.width || frame.gray.height != camera_.height ||
+      frame.gray.size() != frame.depth.size()) {
+    throw std::invalid_argument("grey image is " + std::to_string(frame.gray.width) + "x" +
+                                std::to_string(frame.gray.height) + " but the camera is " +
+                                std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
+  }
+  s->timestamp = frame.timestamp;
+  s->normal_builder.compute(frame.depth, camera_, config_.normal_stride, config_.cell_size,
+                            config_.depth_discontinuity, config_.min_depth_m, config_.max_depth_m,
+                            &s->normals);
+  const int stride = config_.projection_stride;
+  const int W = camera_.width / stride, H = camera_.height / stride;
+  s->points.resize(size_t(W) * size_t(H));
+  s->intensity.resize(size_t(W) * size_t(H));
+  int valid = 0;
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      float z = frame.depth.at(u * stride, v * stride);
+      if (!(z >= config_.min_depth_m && z <= config_.max_depth_m)) z = 0.f;
+      valid += z > 0.f;
+      const size_t i = size_t(v) * size_t(W) + size_t(u);
+      s->points[i] = camera_.backproject(float(u * stride), float(v * stride), z);
+      s->intensity[i] = float(frame.gray.at(u * stride, v * stride)) * (1.f / 255.f);
+    }
+  }
+  s->depth_ok = valid >= config_.min_valid_depth_fraction * float(W * H) &&
+                s->normals.validCount() > 0;
+  s->times = StageTimes{};
+  s->times.normals_s = secondsSince(t0);
+}
+
+void Odometry::estimateRotation(FrameState* s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RotationState& r = *rot_;
+  const Matrix3d R_pred = predictNext(r.R_prev, r.R_prevprev, r.history >= 2);
+  s->planes_used = 0;
+  s->overlap_pixels = 0;
+  s->rotation_keyframe = false;
+
+  if (!s->depth_ok) {
+    s->R_world_cam = R_pred;
+    s->rotation_source = RotationSource::kPrediction;
+  } else if (!r.has_keyframe) {
+    s->R_world_cam = r.history ? R_pred : Matrix3d::Identity();
+    s->rotation_source = RotationSource::kInitial;
+    s->rotation_keyframe = true;
+  } else {
+    const int px = s->normals.width * s->normals.height;
+    PlaneTrackingParams params;
+    params.border = config_.border_px / config_.normal_stride;
+    params.overlap_dot = config_.overlap_dot;
+    params.crease_dot = config_.crease_dot;
+    params.mode_dot = config_.mode_dot;
+    params.min_plane_pixels = std::max(1, int(config_.min_plane_fraction * float(px)));
+    params.max_modes = config_.max_modes;
+    r.tracker.track(r.key_normals, s->normals, params, &r.tracked);
+    s->overlap_pixels = r.tracked.overlap_pixels;
+
+    const Matrix3d R_key_pred = r.R_world_key.transpose() * R_pred;
+    Matrix3d R_key_cur;
+    const auto solution = solveRotation(r.tracked.planes, config_.rotation_method,
+                                        config_.parallel_dot, config_.plane_unchanged_tolerance);
+    if (solution) {
+      R_key_cur = solution->rotation;
+      s->planes_used = solution->planes_used;
+      s->rotation_source = RotationSource::kPlanes;
+    } else if (!r.tracked.planes.empty()) {
+      const PlanePair& p = r.tracked.planes.front();
+      R_key_cur = minimalRotation(R_key_pred * p.cur.cast<double>(), p.key.cast<double>()) *
+                  R_key_pred;
+      s->planes_used = 1;
+      s->rotation_source = RotationSource::kOnePlane;
+    } else {
+      R_key_cur = R_key_pred;
+      s->rotation_source = RotationSource::kPrediction;
+    }
+    s->R_world_cam = r.R_world_key * R_key_cur;
+    const double angle = Eigen::AngleAxisd(R_key_cur).angle();
+    s->rotation_keyframe = ++r.frames_since_key >= config_.rotation_keyframe_interval ||
+                           s->overlap_pixels < config_.rotation_keyframe_min_overlap * float(px) ||
+                           angle >= config_.rotation_keyframe_max_angle;
+  }
+  // Re-orthonormalise so that rounding never accumulates into a non-rotation.
+  s->R_world_cam = Eigen::Quaterniond(s->R_world_cam).normalized().toRotationMatrix();
+  if (s->rotation_keyframe) {
+    r.has_keyframe = true;
+    r.key_normals.width = s->normals.width;
+    r.key_normals.height = s->normals.height;
+    r.key_normals.normal.assign(s->normals.normal.begin(), s->normals.normal.end());
+    r.key_normals.valid.assign(s->normals.valid.begin(), s->normals.valid.end());
+    r.R_world_key = s->R_world_cam;
+    r.frames_since_key = 0;
+  }
+  r.R_prevprev = r.R_prev;
+  r.R_prev = s->R_world_cam;
+  ++r.history;
+  s->times.rotation_s = secondsSince(t0);
+}
+
+void Odometry::makeTranslationKeyframe(const FrameState& s, const Isometry3d& T_world_cam) {
+  TranslationState& t = *trans_;
+  const CloudView cloud{s.points.data(), s.intensity.data(), s.points.size()};
+  const int W = config_.projection_width, H = config_.projection_height;
+  const double r = t.projector.resolutionFor(cloud, Eigen::Matrix3f::Identity(), W, H,
+                                             config_.projection_inlier_fraction);
+  if (r <= 0) return;
+  t.resolution = r;
+  OrthoProjector::project(cloud, Eigen::Matrix3f::Identity(), r, W, H, &t.key);
+  OrthoProjector::fillGaps(&t.key, config_.projection_fill_gap, config_.depth_discontinuity);
+  const float* channels[2] = {t.key.gray.data(), nullptr};
+  if (config_.kcc_use_depth) {
+    double sum = 0;
+    int n = 0;
+    for (float d : t.key.depth)
+      if (d > 0.f) sum += d, ++n;
+    t.key_mean_depth = n ? float(sum / n) : 0.f;
+    t.key_depth_channel.resize(t.key.depth.size());
+    for (size_t i = 0; i < t.key.depth.size(); ++i) {
+      const float d = t.key.depth[i];
+      t.key_depth_channel[i] = d > 0.f ? config_.kcc_depth_weight * (d - t.key_mean_depth) : 0.f;
+    }
+    channels[1] = t.key_depth_channel.data();
+  }
+  t.kcc.train(channels);
+  t.T_world_key = T_world_cam;
+  t.has_keyframe = true;
+}
+
+PoseEstimate Odometry::estimateTranslation(FrameState* s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  TranslationState& t = *trans_;
+  PoseEstimate out;
+  out.frame_index = s->frame_index;
+  out.timestamp = s->timestamp;
+  out.planes_used = s->planes_used;
+  out.rotation_source = s->rotation_source;
+  out.rotation_keyframe = s->rotation_keyframe;
+  out.overlap_pixels = s->overlap_pixels;
+
+  const Isometry3d T_pred = predictNext(t.T_prev, t.T_prevprev, t.history >= 2);
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = s->R_world_cam;
+  const char* translation_problem = nullptr;
+
+  if (!s->depth_ok) {
+    T.translation() = T_pred.translation();
+    translation_problem = "too little valid depth; pose predicted";
+  } else if (!t.has_keyframe) {
+    if (t.history) T.translation() = T_pred.translation();
+    makeTranslationKeyframe(*s, T);
+    out.translation_keyframe = t.has_keyframe;
+  } else {
+    const Matrix3d R_key_cur = t.T_world_key.linear().transpose() * s->R_world_cam;
+    const CloudView cloud{s->points.data(), s->intensity.data(), s->points.size()};
+    const int W = config_.projection_width, H = config_.projection_height;
+    OrthoProjector::project(cloud, R_key_cur.cast<float>(), t.resolution, W, H, &t.cur);
+    OrthoProjector::fillGaps(&t.cur, config_.projection_fill_gap, config_.depth_discontinuity);
+    const float* channels[2] = {t.cur.gray.data(), nullptr};
+    if (config_.kcc_use_depth) {
+      t.cur_depth_channel.resize(t.cur.depth.size());
+      for (size_t i = 0; i < t.cur.depth.size(); ++i) {
+        const float d = t.cur.depth[i];
+        t.cur_depth_channel[i] = d > 0.f ? config_.kcc_depth_weight * (d - t.key_mean_depth) : 0.f;
+      }
+      channels[1] = t.cur_depth_channel.data();
+    }
+    const KccMatch m = t.kcc.match(channels, config_.subpixel_peak, config_.psr_exclusion);
+    out.psr = m.psr;
+    DepthShift dz;
+    if (m.psr >= config_.psr_min) {
+      DepthShiftParams dp;
+      dp.gray_tolerance = config_.depth_gray_tolerance;
+      dp.inlier_m = config_.depth_inlier_m;
+      dp.iterations = config_.depth_iterations;
+      dz = t.depth_shift.estimate(t.key, t.cur, m.du, m.dv, dp);
+    }
+    if (m.psr < config_.psr_min) {
+      translation_problem = "low PSR; translation predicted";
+    } else if (dz.inliers == 0) {
+      translation_problem = "no depth match; translation predicted";
+    }
+    if (translation_problem) {
+      T.translation() = T_pred.translation();
+    } else {
+      Isometry3d T_key_cur = Isometry3d::Identity();
+      T_key_cur.linear() = R_key_cur;
+      T_key_cur.translation() = Eigen::Vector3d(-m.du * t.resolution, -m.dv * t.resolution, dz.dz);
+      T = t.T_world_key * T_key_cur;
+      T.linear() = s->R_world_cam;  // keep stage 2's rotation exactly
+    }
+    if (m.psr <= config_.psr_bound) {
+      makeTranslationKeyframe(*s, T);
+      out.translation_keyframe = true;
+    }
+  }
+  out.projection_resolution = t.resolution;
+
+  const char* rotation_problem = nullptr;
+  if (s->depth_ok && s->rotation_source == RotationSource::kOnePlane) {
+    rotation_problem = "one plane; rotation partly predicted";
+  } else if (s->depth_ok && s->rotation_source == RotationSource::kPrediction) {
+    rotation_problem = "fewer than two non-parallel planes; rotation predicted";
+  }
+  if (!s->depth_ok) {
+    out.state = TrackingState::kLost;
+    out.reason = translation_problem;
+    ++t.degraded_frames;
+  } else if (translation_problem || rotation_problem) {
+    out.state = ++t.degraded_frames > config_.max_degraded_frames ? TrackingState::kLost
+                                                                  : TrackingState::kDegraded;
+    out.reason = rotation_problem ? rotation_problem : translation_problem;
+  } else {
+    t.degraded_frames = 0;
+  }
+  out.T_world_cam = T;
+  t.T_prevprev = t.T_prev;
+  t.T_prev = T;
+  ++t.history;
+  s->times.translation_s = secondsSince(t0);
+  out.times = s->times;
+  return out;
+}
+
+PoseEstimate Odometry::track(const RgbdFrame& frame) {
+  own_state_.frame_index = next_index_++;
+  computeNormals(frame, &own_state_);
+  estimateRotation(&own_state_);
+  return estimateTranslation(&own_state_);
+}
+
+}  // namespace nidevo

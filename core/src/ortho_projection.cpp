@@ -1,0 +1,99 @@
+#include "nidevo/ortho_projection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace nidevo {
+
+void OrthoImage::resize(int w, int h) {
+  width = w;
+  height = h;
+  gray.resize(size_t(w) * size_t(h));
+  depth.resize(size_t(w) * size_t(h));
+}
+
+int OrthoImage::filledCount() const {
+  int n = 0;
+  for (float d : depth) n += d > 0.f;
+  return n;
+}
+
+double OrthoProjector::resolutionFor(const CloudView& cloud, const Eigen::Matrix3f& R, int width,
+                                     int height, double inlier_fraction) {
+  scratch_.resize(cloud.size);
+  size_t k = 0;
+  const float sx = 2.f / float(width), sy = 2.f / float(height);
+  for (size_t i = 0; i < cloud.size; ++i) {
+    if (cloud.points[i].z() <= 0.f) continue;
+    const Eigen::Vector3f p = R * cloud.points[i];
+    scratch_[k++] = std::max(std::abs(p.x()) * sx, std::abs(p.y()) * sy);
+  }
+  if (k == 0) return 0.0;
+  const size_t q = std::min(k - 1, size_t(std::ceil(inlier_fraction * double(k))) - 1);
+  std::nth_element(scratch_.begin(), scratch_.begin() + long(q), scratch_.begin() + long(k));
+  return std::max(double(scratch_[q]), 1e-6);
+}
+
+void OrthoProjector::project(const CloudView& cloud, const Eigen::Matrix3f& R, double resolution,
+                             int width, int height, OrthoImage* out) {
+  out->resize(width, height);
+  std::fill(out->gray.begin(), out->gray.end(), 0.5f);
+  std::fill(out->depth.begin(), out->depth.end(), std::numeric_limits<float>::infinity());
+  const float inv_r = float(1.0 / resolution);
+  const float half_w = float(width) / 2, half_h = float(height) / 2;
+  for (size_t i = 0; i < cloud.size; ++i) {
+    if (cloud.points[i].z() <= 0.f) continue;
+    const Eigen::Vector3f p = R * cloud.points[i];
+    const int u = int(std::floor(p.x() * inv_r + half_w));
+    const int v = int(std::floor(p.y() * inv_r + half_h));
+    if (u < 0 || v < 0 || u >= width || v >= height || p.z() <= 0.f) continue;
+    const size_t c = size_t(v) * size_t(width) + size_t(u);
+    if (p.z() < out->depth[c]) {
+      out->depth[c] = p.z();
+      out->gray[c] = cloud.intensity[i];
+    }
+  }
+  for (float& d : out->depth)
+    if (std::isinf(d)) d = 0.f;
+}
+
+namespace {
+
+// One line of cells (a row or a column) at `stride` apart.
+void fillLine(float* gray, float* depth, int count, size_t stride, int max_gap, float jump) {
+  int last = -1;  // last filled cell
+  for (int i = 0; i < count; ++i) {
+    if (depth[size_t(i) * stride] <= 0.f) continue;
+    const int gap = i - last - 1;
+    if (last >= 0 && gap > 0 && gap <= max_gap) {
+      const float z0 = depth[size_t(last) * stride], z1 = depth[size_t(i) * stride];
+      if (std::abs(z1 - z0) <= jump * std::min(z0, z1)) {
+        const float g0 = gray[size_t(last) * stride], g1 = gray[size_t(i) * stride];
+        for (int k = last + 1; k < i; ++k) {
+          const float t = float(k - last) / float(i - last);
+          depth[size_t(k) * stride] = z0 + t * (z1 - z0);
+          gray[size_t(k) * stride] = g0 + t * (g1 - g0);
+        }
+      }
+    }
+    last = i;
+  }
+}
+
+}  // namespace
+
+void OrthoProjector::fillGaps(OrthoImage* img, int max_gap, float relative_depth_jump) {
+  if (max_gap <= 0) return;
+  const int W = img->width, H = img->height;
+  for (int v = 0; v < H; ++v) {
+    fillLine(&img->gray[size_t(v) * W], &img->depth[size_t(v) * W], W, 1, max_gap,
+             relative_depth_jump);
+  }
+  for (int u = 0; u < W; ++u) {
+    fillLine(&img->gray[size_t(u)], &img->depth[size_t(u)], H, size_t(W), max_gap,
+             relative_depth_jump);
+  }
+}
+
+}  // namespace nidevo

@@ -1,0 +1,114 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "nidevo/kcc.hpp"
+
+namespace nidevo {
+namespace {
+
+constexpr int kW = 160, kH = 120;
+
+// A band-limited textured image sampled at (u - su, v - sv): sinusoids with wavelengths of 6 to
+// 40 px, so that a sub-pixel shift is represented exactly (no aliasing).
+std::vector<float> texture(double su, double sv, uint32_t seed = 5) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> angle(0, 2 * M_PI), wavelength(6, 40), phase(0, 2 * M_PI);
+  struct Wave {
+    double kx, ky, phase;
+  };
+  std::vector<Wave> waves;
+  for (int i = 0; i < 24; ++i) {
+    const double a = angle(rng), k = 2 * M_PI / wavelength(rng);
+    waves.push_back({k * std::cos(a), k * std::sin(a), phase(rng)});
+  }
+  std::vector<float> img(size_t(kW) * kH);
+  for (int v = 0; v < kH; ++v) {
+    for (int u = 0; u < kW; ++u) {
+      double value = 0;
+      for (const auto& w : waves) value += std::sin(w.kx * (u - su) + w.ky * (v - sv) + w.phase);
+      img[size_t(v) * kW + u] = float(0.5 + 0.08 * value);
+    }
+  }
+  return img;
+}
+
+std::vector<float> circularShift(const std::vector<float>& x, int su, int sv) {
+  std::vector<float> z(x.size());
+  for (int v = 0; v < kH; ++v)
+    for (int u = 0; u < kW; ++u)
+      z[size_t(v) * kW + u] = x[size_t((v - sv + kH) % kH) * kW + size_t((u - su + kW) % kW)];
+  return z;
+}
+
+TEST(Kcc, RecoversIntegerShiftsExactly) {
+  KernelCrossCorrelator kcc(kW, kH, 1, 0.2, 0.1);
+  const auto x = texture(0, 0);
+  const float* key[] = {x.data()};
+  kcc.train(key);
+  for (auto [su, sv] : {std::pair{0, 0}, {3, -7}, {-20, 11}, {45, 30}, {-60, -50}}) {
+    const auto z = circularShift(x, su, sv);
+    const float* cur[] = {z.data()};
+    const KccMatch m = kcc.match(cur, /*subpixel=*/false, 5);
+    EXPECT_EQ(m.du, su);
+    EXPECT_EQ(m.dv, sv);
+    EXPECT_GT(m.psr, 20);
+  }
+}
+
+class KccSubpixel : public ::testing::TestWithParam<double> {};
+
+TEST_P(KccSubpixel, RecoversSubpixelShifts) {
+  KernelCrossCorrelator kcc(kW, kH, 1, 0.2, 0.1, GetParam());
+  const auto x = texture(0, 0);
+  const float* key[] = {x.data()};
+  kcc.train(key);
+  for (auto [su, sv] : {std::pair{0.3, -0.4}, {2.5, 1.2}, {-7.7, 4.45}, {10.1, -3.6}}) {
+    const auto z = texture(su, sv);
+    const float* cur[] = {z.data()};
+    const KccMatch m = kcc.match(cur, /*subpixel=*/true, 5);
+    EXPECT_NEAR(m.du, su, 0.1);
+    EXPECT_NEAR(m.dv, sv, 0.1);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(LabelSigma, KccSubpixel, ::testing::Values(0.0, 0.5, 1.0, 2.0));
+
+TEST(Kcc, PsrIsHighOnAMatchAndLowOnUnrelatedImages) {
+  KernelCrossCorrelator kcc(kW, kH, 1, 0.2, 0.1);
+  const auto x = texture(0, 0, 5);
+  const float* key[] = {x.data()};
+  kcc.train(key);
+  const auto same = texture(4, 2, 5);
+  const auto other = texture(0, 0, 99);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> noise(0.f, 1.f);
+  std::vector<float> random(x.size());
+  for (float& r : random) r = noise(rng);
+  const float* a[] = {same.data()};
+  const float* b[] = {other.data()};
+  const float* c[] = {random.data()};
+  const double psr_match = kcc.match(a, true, 5).psr;
+  const double psr_other = kcc.match(b, true, 5).psr;
+  const double psr_random = kcc.match(c, true, 5).psr;
+  EXPECT_GT(psr_match, 30);
+  EXPECT_LT(psr_other, psr_match / 3);
+  EXPECT_LT(psr_random, psr_match / 3);
+}
+
+TEST(Kcc, TwoChannelsRecoverTheShiftOfAFeaturelessGreyImage) {
+  KernelCrossCorrelator kcc(kW, kH, 2, 0.2, 0.1);
+  const std::vector<float> flat(size_t(kW) * kH, 0.5f);
+  const auto depth = texture(0, 0, 11);
+  const float* key[] = {flat.data(), depth.data()};
+  kcc.train(key);
+  const auto shifted = circularShift(depth, -9, 4);
+  const float* cur[] = {flat.data(), shifted.data()};
+  const KccMatch m = kcc.match(cur, false, 5);
+  EXPECT_EQ(m.du, -9);
+  EXPECT_EQ(m.dv, 4);
+}
+
+}  // namespace
+}  // namespace nidevo
