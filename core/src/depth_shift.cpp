@@ -12,12 +12,21 @@ DepthShift DepthShiftEstimator::estimate(const OrthoImage& key, const OrthoImage
   size_t n = 0;
   const int iu = int(std::floor(du)), iv = int(std::floor(dv));
   const float fu = float(du - iu), fv = float(dv - iv);
+  // Depth change over two cells allowed by the slope limit.
+  const float slope_limit = p.max_slope > 0 ? float(2.0 * p.resolution * p.max_slope) : 0.f;
   const float w00 = (1 - fu) * (1 - fv), w10 = fu * (1 - fv), w01 = (1 - fu) * fv, w11 = fu * fv;
   for (int v = std::max(0, -iv); v < std::min(H, H - iv - 1); ++v) {
     for (int u = std::max(0, -iu); u < std::min(W, W - iu - 1); ++u) {
       const size_t k = size_t(v) * size_t(W) + size_t(u);
       const float zk = key.depth[k];
       if (zk <= 0.f) continue;
+      if (slope_limit > 0.f) {
+        if (u == 0 || v == 0 || u == W - 1 || v == H - 1) continue;
+        const float zl = key.depth[k - 1], zr = key.depth[k + 1], zt = key.depth[k - size_t(W)],
+                    zb = key.depth[k + size_t(W)];
+        if (zl <= 0.f || zr <= 0.f || zt <= 0.f || zb <= 0.f) continue;
+        if (std::abs(zr - zl) > slope_limit || std::abs(zb - zt) > slope_limit) continue;
+      }
       const size_t c = size_t(v + iv) * size_t(W) + size_t(u + iu);
       const float z00 = cur.depth[c], z10 = cur.depth[c + 1], z01 = cur.depth[c + size_t(W)],
                   z11 = cur.depth[c + size_t(W) + 1];

@@ -10,6 +10,7 @@ void NormalMap::resize(int w, int h) {
   height = h;
   normal.resize(size_t(w) * size_t(h));
   valid.resize(size_t(w) * size_t(h));
+  points.resize(size_t(w) * size_t(h));
 }
 
 int NormalMap::validCount() const {
@@ -25,7 +26,6 @@ void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, i
   const int W = depth.width / stride, H = depth.height / stride;
   const size_t n = size_t(W) * size_t(H);
   out->resize(W, H);
-  points_.resize(n);
   raw_.resize(n);
   tmp_.resize(n);
 
@@ -33,7 +33,7 @@ void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, i
     for (int u = 0; u < W; ++u) {
       float z = depth.at(u * stride, v * stride);
       if (!(z >= min_depth && z <= max_depth)) z = 0.f;  // also rejects NaN
-      points_[size_t(v) * W + u] = cam.backproject(float(u), float(v), z);
+      out->points[size_t(v) * W + u] = cam.backproject(float(u), float(v), z);
     }
   }
 
@@ -45,10 +45,10 @@ void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, i
     for (int u = 0; u < W; ++u) {
       const size_t i = size_t(v) * W + u;
       raw_[i].setZero();
-      const Eigen::Vector3f& p = points_[i];
+      const Eigen::Vector3f& p = out->points[i];
       if (u == 0 || v == 0 || u == W - 1 || v == H - 1 || p.z() <= 0.f) continue;
-      const Eigen::Vector3f &l = points_[i - 1], &r = points_[i + 1], &t = points_[i - W],
-                            &b = points_[i + W];
+      const Eigen::Vector3f &l = out->points[i - 1], &r = out->points[i + 1], &t = out->points[i - W],
+                            &b = out->points[i + W];
       if (!usable(l, p.z()) || !usable(r, p.z()) || !usable(t, p.z()) || !usable(b, p.z())) continue;
       Eigen::Vector3f nrm = (r - l).cross(b - t);
       const float len = nrm.norm();

@@ -1,5 +1,6 @@
 #include "nidevo/odometry.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -58,7 +59,7 @@ struct Odometry::RotationState {
 struct Odometry::TranslationState {
   TranslationState(const OdometryConfig& c)
       : kcc(c.projection_width, c.projection_height, c.kcc_use_depth ? 2 : 1, c.kcc_sigma,
-            c.kcc_lambda) {}
+            c.kcc_lambda, c.kcc_label_sigma) {}
   bool has_keyframe = false;
   OrthoImage key, cur;
   std::vector<float> key_depth_channel, cur_depth_channel;
@@ -80,6 +81,20 @@ Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
   if (camera.width / config.normal_stride < 2 * config.cell_size + 8 ||
       camera.height / config.normal_stride < 2 * config.cell_size + 8) {
     throw std::invalid_argument("camera: image too small for normal_stride and cell_size");
+  }
+  // Contrast fades out towards the image border (raised cosine over the outer margin).
+  const int stride = config_.projection_stride;
+  const int W = camera_.width / stride, H = camera_.height / stride;
+  const float margin = config_.projection_border_fade * float(W);
+  point_weight_.assign(size_t(W) * size_t(H), 1.f);
+  if (margin > 0) {
+    for (int v = 0; v < H; ++v) {
+      for (int u = 0; u < W; ++u) {
+        const float d = float(std::min({u, v, W - 1 - u, H - 1 - v}));
+        if (d < margin) point_weight_[size_t(v) * size_t(W) + size_t(u)] =
+            0.5f - 0.5f * std::cos(float(M_PI) * d / margin);
+      }
+    }
   }
   rot_ = std::make_unique<RotationState>();
   trans_ = std::make_unique<TranslationState>(config_);
@@ -150,6 +165,7 @@ void Odometry::estimateRotation(FrameState* s) {
     params.mode_dot = config_.mode_dot;
     params.min_plane_pixels = std::max(1, int(config_.min_plane_fraction * float(px)));
     params.max_modes = config_.max_modes;
+    params.estimator = config_.plane_normal;
     r.tracker.track(r.key_normals, s->normals, params, &r.tracked);
     s->overlap_pixels = r.tracked.overlap_pixels;
 
@@ -185,6 +201,7 @@ void Odometry::estimateRotation(FrameState* s) {
     r.key_normals.height = s->normals.height;
     r.key_normals.normal.assign(s->normals.normal.begin(), s->normals.normal.end());
     r.key_normals.valid.assign(s->normals.valid.begin(), s->normals.valid.end());
+    r.key_normals.points.assign(s->normals.points.begin(), s->normals.points.end());
     r.R_world_key = s->R_world_cam;
     r.frames_since_key = 0;
   }
@@ -196,7 +213,8 @@ void Odometry::estimateRotation(FrameState* s) {
 
 void Odometry::makeTranslationKeyframe(const FrameState& s, const Isometry3d& T_world_cam) {
   TranslationState& t = *trans_;
-  const CloudView cloud{s.points.data(), s.intensity.data(), s.points.size()};
+  const CloudView cloud{s.points.data(), s.intensity.data(), s.points.size(),
+                        point_weight_.data()};
   const int W = config_.projection_width, H = config_.projection_height;
   const double r = t.projector.resolutionFor(cloud, Eigen::Matrix3f::Identity(), W, H,
                                              config_.projection_inlier_fraction);
@@ -204,6 +222,7 @@ void Odometry::makeTranslationKeyframe(const FrameState& s, const Isometry3d& T_
   t.resolution = r;
   OrthoProjector::project(cloud, Eigen::Matrix3f::Identity(), r, W, H, &t.key);
   OrthoProjector::fillGaps(&t.key, config_.projection_fill_gap, config_.depth_discontinuity);
+  if (config_.projection_flatten_outline) OrthoProjector::flattenOutline(&t.key);
   const float* channels[2] = {t.key.gray.data(), nullptr};
   if (config_.kcc_use_depth) {
     double sum = 0;
@@ -248,10 +267,12 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
     out.translation_keyframe = t.has_keyframe;
   } else {
     const Matrix3d R_key_cur = t.T_world_key.linear().transpose() * s->R_world_cam;
-    const CloudView cloud{s->points.data(), s->intensity.data(), s->points.size()};
+    const CloudView cloud{s->points.data(), s->intensity.data(), s->points.size(),
+                          point_weight_.data()};
     const int W = config_.projection_width, H = config_.projection_height;
     OrthoProjector::project(cloud, R_key_cur.cast<float>(), t.resolution, W, H, &t.cur);
     OrthoProjector::fillGaps(&t.cur, config_.projection_fill_gap, config_.depth_discontinuity);
+    if (config_.projection_flatten_outline) OrthoProjector::flattenOutline(&t.cur);
     const float* channels[2] = {t.cur.gray.data(), nullptr};
     if (config_.kcc_use_depth) {
       t.cur_depth_channel.resize(t.cur.depth.size());
@@ -269,6 +290,8 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
       dp.gray_tolerance = config_.depth_gray_tolerance;
       dp.inlier_m = config_.depth_inlier_m;
       dp.iterations = config_.depth_iterations;
+      dp.max_slope = config_.depth_max_slope;
+      dp.resolution = t.resolution;
       dz = t.depth_shift.estimate(t.key, t.cur, m.du, m.dv, dp);
     }
     if (m.psr < config_.psr_min) {

@@ -40,8 +40,10 @@ std::string OdometryConfig::validate() const {
   if (projection_stride < 1 || projection_stride > 8) return "projection_stride must be in 1..8";
   if (!in(projection_inlier_fraction, 0.05, 1)) return "projection_inlier_fraction must be in [0.05, 1]";
   if (projection_fill_gap < 0 || projection_fill_gap > 16) return "projection_fill_gap must be in 0..16";
+  if (!in(projection_border_fade, 0, 0.5)) return "projection_border_fade must be in [0, 0.5]";
   if (!in(kcc_sigma, 1e-3, 100)) return "kcc_sigma must be in [1e-3, 100]";
   if (!in(kcc_lambda, 1e-6, 1e3)) return "kcc_lambda must be in [1e-6, 1e3]";
+  if (!in(kcc_label_sigma, 0, 50)) return "kcc_label_sigma must be in [0, 50]";
   if (!in(kcc_depth_weight, 0, 100)) return "kcc_depth_weight must be in [0, 100]";
   if (psr_exclusion < 0 || 2 * psr_exclusion + 1 >= projection_width / 2 ||
       2 * psr_exclusion + 1 >= projection_height / 2)
@@ -50,6 +52,7 @@ std::string OdometryConfig::validate() const {
   if (!in(psr_min, 0, 1e6) || psr_min > psr_bound) return "psr_min must be in [0, psr_bound]";
   if (!in(depth_gray_tolerance, 0, 1)) return "depth_gray_tolerance must be in [0, 1]";
   if (!in(depth_inlier_m, 1e-4, 10)) return "depth_inlier_m must be in [1e-4, 10]";
+  if (!in(depth_max_slope, 0, 100)) return "depth_max_slope must be in [0, 100]";
   if (depth_iterations < 1 || depth_iterations > 20) return "depth_iterations must be in 1..20";
   if (!in(min_valid_depth_fraction, 0, 1)) return "min_valid_depth_fraction must be in [0, 1]";
   if (max_degraded_frames < 1) return "max_degraded_frames must be at least 1";

@@ -11,6 +11,7 @@ void OrthoImage::resize(int w, int h) {
   height = h;
   gray.resize(size_t(w) * size_t(h));
   depth.resize(size_t(w) * size_t(h));
+  weight.resize(size_t(w) * size_t(h));
 }
 
 int OrthoImage::filledCount() const {
@@ -52,6 +53,7 @@ void OrthoProjector::project(const CloudView& cloud, const Eigen::Matrix3f& R, d
     if (p.z() < out->depth[c]) {
       out->depth[c] = p.z();
       out->gray[c] = cloud.intensity[i];
+      out->weight[c] = cloud.weight ? cloud.weight[i] : 1.f;
     }
   }
   for (float& d : out->depth)
@@ -61,7 +63,8 @@ void OrthoProjector::project(const CloudView& cloud, const Eigen::Matrix3f& R, d
 namespace {
 
 // One line of cells (a row or a column) at `stride` apart.
-void fillLine(float* gray, float* depth, int count, size_t stride, int max_gap, float jump) {
+void fillLine(float* gray, float* depth, float* weight, int count, size_t stride, int max_gap,
+              float jump) {
   int last = -1;  // last filled cell
   for (int i = 0; i < count; ++i) {
     if (depth[size_t(i) * stride] <= 0.f) continue;
@@ -70,10 +73,12 @@ void fillLine(float* gray, float* depth, int count, size_t stride, int max_gap, 
       const float z0 = depth[size_t(last) * stride], z1 = depth[size_t(i) * stride];
       if (std::abs(z1 - z0) <= jump * std::min(z0, z1)) {
         const float g0 = gray[size_t(last) * stride], g1 = gray[size_t(i) * stride];
+        const float w0 = weight[size_t(last) * stride], w1 = weight[size_t(i) * stride];
         for (int k = last + 1; k < i; ++k) {
           const float t = float(k - last) / float(i - last);
           depth[size_t(k) * stride] = z0 + t * (z1 - z0);
           gray[size_t(k) * stride] = g0 + t * (g1 - g0);
+          weight[size_t(k) * stride] = w0 + t * (w1 - w0);
         }
       }
     }
@@ -87,12 +92,27 @@ void OrthoProjector::fillGaps(OrthoImage* img, int max_gap, float relative_depth
   if (max_gap <= 0) return;
   const int W = img->width, H = img->height;
   for (int v = 0; v < H; ++v) {
-    fillLine(&img->gray[size_t(v) * W], &img->depth[size_t(v) * W], W, 1, max_gap,
+    fillLine(&img->gray[size_t(v) * W], &img->depth[size_t(v) * W], &img->weight[size_t(v) * W], W, 1, max_gap,
              relative_depth_jump);
   }
   for (int u = 0; u < W; ++u) {
-    fillLine(&img->gray[size_t(u)], &img->depth[size_t(u)], H, size_t(W), max_gap,
+    fillLine(&img->gray[size_t(u)], &img->depth[size_t(u)], &img->weight[size_t(u)], H, size_t(W), max_gap,
              relative_depth_jump);
+  }
+}
+
+void OrthoProjector::flattenOutline(OrthoImage* img) {
+  double sum = 0, weights = 0;
+  for (size_t i = 0; i < img->depth.size(); ++i) {
+    if (img->depth[i] > 0.f) {
+      sum += double(img->weight[i]) * img->gray[i];
+      weights += img->weight[i];
+    }
+  }
+  if (weights <= 0) return;
+  const float mean = float(sum / weights);
+  for (size_t i = 0; i < img->depth.size(); ++i) {
+    img->gray[i] = img->depth[i] > 0.f ? mean + img->weight[i] * (img->gray[i] - mean) : mean;
   }
 }
 

@@ -14,6 +14,7 @@ struct NormalMap {
   int height = 0;
   std::vector<Eigen::Vector3f> normal;  // unit, towards the camera; meaningful where valid
   std::vector<uint8_t> valid;
+  std::vector<Eigen::Vector3f> points;  // back-projected points of the map's pixels, z = 0 if none
   void resize(int w, int h);
   int validCount() const;
 };
@@ -27,7 +28,6 @@ class NormalMapBuilder {
                float depth_discontinuity, float min_depth, float max_depth, NormalMap* out);
 
  private:
-  std::vector<Eigen::Vector3f> points_;
   std::vector<Eigen::Vector4f> raw_;   // xyz normal + 1 where valid, 0 elsewhere
   std::vector<Eigen::Vector4f> tmp_;   // horizontal box sums
 };

@@ -98,6 +98,7 @@ class Odometry {
   OdometryConfig config_;
   std::unique_ptr<RotationState> rot_;
   std::unique_ptr<TranslationState> trans_;
+  std::vector<float> point_weight_;  // per projection point, fades contrast at the border
   FrameState own_state_;
   uint64_t next_index_ = 0;
 };

@@ -2,6 +2,8 @@
 // Every tunable of the odometry in one place, with the defaults of METHOD.md (the authors').
 #include <string>
 
+#include "nidevo/plane_tracking.hpp"
+
 namespace nidevo {
 
 enum class RotationMethod {
@@ -28,6 +30,7 @@ struct OdometryConfig {
   float parallel_dot = 0.97f;          // two plane normals closer than this count as parallel
   int max_modes = 16;
   RotationMethod rotation_method = RotationMethod::kBestPair;
+  PlaneNormalEstimator plane_normal = PlaneNormalEstimator::kMedian;
   float plane_unchanged_tolerance = 0.002f;  // |n_key - n_cur| below this: the plane did not turn
   int rotation_keyframe_interval = 5;
   float rotation_keyframe_min_overlap = 0.065f;  // fraction; authors: 5000 px at 320x240
@@ -38,9 +41,13 @@ struct OdometryConfig {
   int projection_height = 240;
   int projection_stride = 2;           // project every n-th input pixel in u and v
   float projection_inlier_fraction = 0.8f;  // mu: points inside the projection
+  bool projection_flatten_outline = false;  // empty cells: mean grey instead of 0.5 (authors),
+                                            // contrast faded towards the image border
+  float projection_border_fade = 0.1f; // width of that fade, as a fraction of the image width
   int projection_fill_gap = 2;         // fill holes of up to this many cells within a surface
   float kcc_sigma = 0.2f;
   float kcc_lambda = 0.1f;
+  float kcc_label_sigma = 0.0f;        // 0: delta label (authors); else Gaussian label, pixels
   bool kcc_use_depth = false;          // correlate depth as a second channel
   float kcc_depth_weight = 0.5f;       // per metre of depth difference
   bool subpixel_peak = true;
@@ -50,6 +57,7 @@ struct OdometryConfig {
   float depth_gray_tolerance = 0.1f;   // Eq. 18 inlier test on intensity
   float depth_inlier_m = 0.1f;         // Eq. 18 inlier test on the depth difference
   int depth_iterations = 3;
+  float depth_max_slope = 1.5f;        // Eq. 18 skips cells of steeper surfaces (0: off)
 
   // Tracking state.
   float min_valid_depth_fraction = 0.05f;

@@ -11,6 +11,7 @@ struct CloudView {
   const Eigen::Vector3f* points = nullptr;
   const float* intensity = nullptr;
   size_t size = 0;
+  const float* weight = nullptr;  // per point contrast weight in [0, 1]; nullptr: all 1
 };
 
 struct OrthoImage {
@@ -18,6 +19,7 @@ struct OrthoImage {
   int height = 0;
   std::vector<float> gray;   // 0.5 where empty (authors)
   std::vector<float> depth;  // metres along the projection axis, 0 where empty
+  std::vector<float> weight; // contrast weight of the point in the cell
   void resize(int w, int h);
   int filledCount() const;
 };
@@ -36,6 +38,10 @@ class OrthoProjector {
   // relative_depth_jump). A slanted surface spreads its points apart in the projection; left
   // alone, those holes form a moire that the correlator would lock onto.
   static void fillGaps(OrthoImage* image, int max_gap, float relative_depth_jump);
+  // Sets empty cells to the mean grey of the filled ones and scales each cell's contrast about
+  // that mean by its weight, so that the outline of the field of view, which moves with the
+  // camera's rotation and not with the scene, carries no contrast.
+  static void flattenOutline(OrthoImage* image);
 
  private:
   std::vector<float> scratch_;

@@ -2,6 +2,7 @@
 // Stage 2a: planes seen in both the keyframe and the current normal map, found pixel by pixel
 // (paper Alg. 1): overlapping co-planar pixels grouped into modes, one median normal per frame.
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "nidevo/normal_map.hpp"
@@ -14,6 +15,13 @@ struct PlanePair {
   int pixels = 0;
 };
 
+enum class PlaneNormalEstimator {
+  kMedian,    // per-component median of the smoothed normals (the paper)
+  kPlaneFit,  // least-squares plane through the member pixels' 3-D points (PCA)
+};
+PlaneNormalEstimator parsePlaneNormalEstimator(const std::string& name);  // median, fit
+const char* toString(PlaneNormalEstimator e);
+
 struct PlaneTrackingParams {
   int border = 5;            // in normal-map pixels
   float overlap_dot = 0.9f;
@@ -21,6 +29,8 @@ struct PlaneTrackingParams {
   float mode_dot = 0.95f;
   int min_plane_pixels = 1000;
   int max_modes = 16;
+  PlaneNormalEstimator estimator = PlaneNormalEstimator::kMedian;
+  float fit_cone_dot = 0.99f;  // kPlaneFit: members within this of the mode's median normal
 };
 
 struct PlaneTrackingResult {
@@ -39,6 +49,9 @@ class PlaneTracker {
   std::vector<Eigen::Vector3f> seeds_;
   std::vector<int> counts_;
   std::vector<float> scratch_;
+  std::vector<int> members_;
+  std::vector<float> residual_;
+  std::vector<int> offset_histogram_;
 };
 
 }  // namespace nidevo
