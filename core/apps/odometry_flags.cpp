@@ -32,7 +32,8 @@ ABSL_FLAG(double, border_fade, kDefaults.projection_border_fade,
 ABSL_FLAG(int, fill_gap, kDefaults.projection_fill_gap,
           "Fill projection holes of up to this many cells within one surface (0: off)");
 ABSL_FLAG(bool, subpixel, kDefaults.subpixel_peak, "Sub-pixel refinement of the KCC peak");
-ABSL_FLAG(double, psr_bound, kDefaults.psr_bound, "Translation keyframe renewed at or below this PSR");
+ABSL_FLAG(double, psr_bound, kDefaults.psr_bound,
+          "Translation keyframe renewed at or below this PSR");
 
 namespace nidevo::cli {
 

@@ -14,7 +14,8 @@
 #include "odometry_flags.hpp"
 
 ABSL_FLAG(std::string, dataset, "", "TUM/ICL-NUIM sequence folder (default: a synthetic scene)");
-ABSL_FLAG(std::string, scene, "office", "Synthetic scene when no --dataset: office, corridor, corner, gap");
+ABSL_FLAG(std::string, scene, "office",
+          "Synthetic scene when no --dataset: office, corridor, corner, gap");
 ABSL_FLAG(std::string, texture, "rich", "Synthetic texture: rich, low, none");
 ABSL_FLAG(std::string, noise, "none", "Synthetic sensor noise: none, icl");
 ABSL_FLAG(int, frames, 300, "Synthetic sequence length");
@@ -86,13 +87,14 @@ int main(int argc, char** argv) {
       trans_keys += p.translation_keyframe;
       if (p.psr > 0) psr.push_back(p.psr);
     }
-    std::printf("odometry: %zu frames in %.3f s = %.1f frames/s (%d thread%s)\n", poses.size(), secs,
-                poses.size() / secs, threads, threads > 1 ? "s" : "");
+    std::printf("odometry: %zu frames in %.3f s = %.1f frames/s (%d thread%s)\n", poses.size(),
+                secs, poses.size() / secs, threads, threads > 1 ? "s" : "");
     std::printf("stage medians: normals %.2f ms, rotation %.2f ms, translation %.2f ms\n",
                 1e3 * median(t_normals), 1e3 * median(t_rotation), 1e3 * median(t_translation));
-    std::printf("tracking: %d OK, %d DEGRADED, %d LOST; keyframes: %d rotation, %d translation; "
-                "median PSR %.1f\n",
-                counts[0], counts[1], counts[2], rot_keys, trans_keys, median(psr));
+    std::printf(
+        "tracking: %d OK, %d DEGRADED, %d LOST; keyframes: %d rotation, %d translation; "
+        "median PSR %.1f\n",
+        counts[0], counts[1], counts[2], rot_keys, trans_keys, median(psr));
 
     const std::string out = absl::GetFlag(FLAGS_out);
     if (!out.empty()) {
@@ -103,12 +105,13 @@ int main(int argc, char** argv) {
       const auto matched = nidevo::matchByTimestamp(estimate, seq.ground_truth, 0.005);
       const auto ate = nidevo::computeAte(matched);
       const auto rpe = nidevo::computeRpe(matched, 1);
-      std::cout << "\n"
-                << nidevo::formatStatisticsTable("APE w.r.t. translation part", ate.translation, "m")
-                << "\n"
-                << nidevo::formatStatisticsTable("RPE translation, delta 1 frame", rpe.translation, "m")
-                << "\n"
-                << nidevo::formatStatisticsTable("RPE rotation, delta 1 frame", rpe.rotation, "deg");
+      std::cout
+          << "\n"
+          << nidevo::formatStatisticsTable("APE w.r.t. translation part", ate.translation, "m")
+          << "\n"
+          << nidevo::formatStatisticsTable("RPE translation, delta 1 frame", rpe.translation, "m")
+          << "\n"
+          << nidevo::formatStatisticsTable("RPE rotation, delta 1 frame", rpe.rotation, "deg");
       const std::string plot = absl::GetFlag(FLAGS_plot);
       if (!plot.empty()) {
         char title[160];

@@ -11,6 +11,7 @@ void NormalMap::resize(int w, int h) {
   normal.resize(size_t(w) * size_t(h));
   valid.resize(size_t(w) * size_t(h));
   points.resize(size_t(w) * size_t(h));
+  smooth.resize(size_t(w) * size_t(h));
 }
 
 int NormalMap::validCount() const {
@@ -21,7 +22,7 @@ int NormalMap::validCount() const {
 
 void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, int stride,
                                int cell_size, float depth_discontinuity, float min_depth,
-                               float max_depth, NormalMap* out) {
+                               float max_depth, float crease_dot, NormalMap* out) {
   const Camera cam = camera.subsampled(stride);
   const int W = depth.width / stride, H = depth.height / stride;
   const size_t n = size_t(W) * size_t(H);
@@ -47,9 +48,10 @@ void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, i
       raw_[i].setZero();
       const Eigen::Vector3f& p = out->points[i];
       if (u == 0 || v == 0 || u == W - 1 || v == H - 1 || p.z() <= 0.f) continue;
-      const Eigen::Vector3f &l = out->points[i - 1], &r = out->points[i + 1], &t = out->points[i - W],
-                            &b = out->points[i + W];
-      if (!usable(l, p.z()) || !usable(r, p.z()) || !usable(t, p.z()) || !usable(b, p.z())) continue;
+      const Eigen::Vector3f &l = out->points[i - 1], &r = out->points[i + 1],
+                            &t = out->points[i - W], &b = out->points[i + W];
+      if (!usable(l, p.z()) || !usable(r, p.z()) || !usable(t, p.z()) || !usable(b, p.z()))
+        continue;
       Eigen::Vector3f nrm = (r - l).cross(b - t);
       const float len = nrm.norm();
       if (!(len > 0.f)) continue;
@@ -84,6 +86,22 @@ void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, i
       out->normal[i] = ok ? Eigen::Vector3f(s / len) : Eigen::Vector3f::Zero();
       if (v + hi + 1 < H) acc += tmp_[size_t(v + hi + 1) * W + u];
       if (v - lo >= 0) acc -= tmp_[size_t(v - lo) * W + u];
+    }
+  }
+
+  // Pixels on a crease (a 4-neighbour normal differs) are useless for plane tracking; marking
+  // them once here spares stage 2 from doing it for both frames of every pair.
+  std::fill(out->smooth.begin(), out->smooth.end(), uint8_t(0));
+  for (int v = 1; v < H - 1; ++v) {
+    for (int u = 1; u < W - 1; ++u) {
+      const size_t i = size_t(v) * W + u;
+      if (!out->valid[i]) continue;
+      const Eigen::Vector3f& nrm = out->normal[i];
+      bool ok = true;
+      for (size_t j : {i - 1, i + 1, i - size_t(W), i + size_t(W)}) {
+        ok = ok && out->valid[j] && nrm.dot(out->normal[j]) >= crease_dot;
+      }
+      out->smooth[i] = ok;
     }
   }
 }

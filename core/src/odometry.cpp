@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "nidevo/motion_model.hpp"
 #include "nidevo/rotation_solver.hpp"
 
 namespace nidevo {
@@ -14,19 +15,26 @@ using Eigen::Matrix3d;
 
 const char* toString(TrackingState s) {
   switch (s) {
-    case TrackingState::kOk: return "OK";
-    case TrackingState::kDegraded: return "DEGRADED";
-    case TrackingState::kLost: return "LOST";
+    case TrackingState::kOk:
+      return "OK";
+    case TrackingState::kDegraded:
+      return "DEGRADED";
+    case TrackingState::kLost:
+      return "LOST";
   }
   return "?";
 }
 
 const char* toString(RotationSource s) {
   switch (s) {
-    case RotationSource::kInitial: return "initial";
-    case RotationSource::kPlanes: return "planes";
-    case RotationSource::kOnePlane: return "one_plane";
-    case RotationSource::kPrediction: return "prediction";
+    case RotationSource::kInitial:
+      return "initial";
+    case RotationSource::kPlanes:
+      return "planes";
+    case RotationSource::kOnePlane:
+      return "one_plane";
+    case RotationSource::kPrediction:
+      return "prediction";
   }
   return "?";
 }
@@ -37,10 +45,10 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Constant-velocity prediction from the last two poses.
-template <typename T>
-T predictNext(const T& prev, const T& prevprev, bool have_two) {
-  return have_two ? T(prev * (prevprev.inverse() * prev)) : prev;
+Isometry3d rotationOnly(const Matrix3d& R) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = R;
+  return T;
 }
 
 }  // namespace
@@ -50,8 +58,7 @@ struct Odometry::RotationState {
   NormalMap key_normals;
   Matrix3d R_world_key = Matrix3d::Identity();
   int frames_since_key = 0;
-  Matrix3d R_prev = Matrix3d::Identity(), R_prevprev = Matrix3d::Identity();
-  int history = 0;
+  MotionModel motion;
   PlaneTracker tracker;
   PlaneTrackingResult tracked;
 };
@@ -66,8 +73,7 @@ struct Odometry::TranslationState {
   float key_mean_depth = 0;
   double resolution = 0;
   Isometry3d T_world_key = Isometry3d::Identity();
-  Isometry3d T_prev = Isometry3d::Identity(), T_prevprev = Isometry3d::Identity();
-  int history = 0;
+  MotionModel motion;
   int degraded_frames = 0;
   KernelCrossCorrelator kcc;
   OrthoProjector projector;
@@ -91,8 +97,9 @@ Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
     for (int v = 0; v < H; ++v) {
       for (int u = 0; u < W; ++u) {
         const float d = float(std::min({u, v, W - 1 - u, H - 1 - v}));
-        if (d < margin) point_weight_[size_t(v) * size_t(W) + size_t(u)] =
-            0.5f - 0.5f * std::cos(float(M_PI) * d / margin);
+        if (d < margin)
+          point_weight_[size_t(v) * size_t(W) + size_t(u)] =
+              0.5f - 0.5f * std::cos(float(M_PI) * d / margin);
       }
     }
   }
@@ -108,18 +115,20 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
       frame.depth.size() != size_t(camera_.width) * size_t(camera_.height)) {
     throw std::invalid_argument("depth image is " + std::to_string(frame.depth.width) + "x" +
                                 std::to_string(frame.depth.height) + " but the camera is " +
-                                std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
+                                std::to_string(camera_.width) + "x" +
+                                std::to_string(camera_.height));
   }
   if (frame.gray.width != camera_.width || frame.gray.height != camera_.height ||
       frame.gray.size() != frame.depth.size()) {
     throw std::invalid_argument("grey image is " + std::to_string(frame.gray.width) + "x" +
                                 std::to_string(frame.gray.height) + " but the camera is " +
-                                std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
+                                std::to_string(camera_.width) + "x" +
+                                std::to_string(camera_.height));
   }
   s->timestamp = frame.timestamp;
   s->normal_builder.compute(frame.depth, camera_, config_.normal_stride, config_.cell_size,
                             config_.depth_discontinuity, config_.min_depth_m, config_.max_depth_m,
-                            &s->normals);
+                            config_.crease_dot, &s->normals);
   const int stride = config_.projection_stride;
   const int W = camera_.width / stride, H = camera_.height / stride;
   s->points.resize(size_t(W) * size_t(H));
@@ -135,8 +144,8 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
       s->intensity[i] = float(frame.gray.at(u * stride, v * stride)) * (1.f / 255.f);
     }
   }
-  s->depth_ok = valid >= config_.min_valid_depth_fraction * float(W * H) &&
-                s->normals.validCount() > 0;
+  s->depth_ok =
+      valid >= config_.min_valid_depth_fraction * float(W * H) && s->normals.validCount() > 0;
   s->times = StageTimes{};
   s->times.normals_s = secondsSince(t0);
 }
@@ -144,7 +153,7 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
 void Odometry::estimateRotation(FrameState* s) {
   const auto t0 = std::chrono::steady_clock::now();
   RotationState& r = *rot_;
-  const Matrix3d R_pred = predictNext(r.R_prev, r.R_prevprev, r.history >= 2);
+  const Matrix3d R_pred = r.motion.predict().linear();
   s->planes_used = 0;
   s->overlap_pixels = 0;
   s->rotation_keyframe = false;
@@ -153,7 +162,7 @@ void Odometry::estimateRotation(FrameState* s) {
     s->R_world_cam = R_pred;
     s->rotation_source = RotationSource::kPrediction;
   } else if (!r.has_keyframe) {
-    s->R_world_cam = r.history ? R_pred : Matrix3d::Identity();
+    s->R_world_cam = R_pred;
     s->rotation_source = RotationSource::kInitial;
     s->rotation_keyframe = true;
   } else {
@@ -161,7 +170,6 @@ void Odometry::estimateRotation(FrameState* s) {
     PlaneTrackingParams params;
     params.border = config_.border_px / config_.normal_stride;
     params.overlap_dot = config_.overlap_dot;
-    params.crease_dot = config_.crease_dot;
     params.mode_dot = config_.mode_dot;
     params.min_plane_pixels = std::max(1, int(config_.min_plane_fraction * float(px)));
     params.max_modes = config_.max_modes;
@@ -179,8 +187,8 @@ void Odometry::estimateRotation(FrameState* s) {
       s->rotation_source = RotationSource::kPlanes;
     } else if (!r.tracked.planes.empty()) {
       const PlanePair& p = r.tracked.planes.front();
-      R_key_cur = minimalRotation(R_key_pred * p.cur.cast<double>(), p.key.cast<double>()) *
-                  R_key_pred;
+      R_key_cur =
+          minimalRotation(R_key_pred * p.cur.cast<double>(), p.key.cast<double>()) * R_key_pred;
       s->planes_used = 1;
       s->rotation_source = RotationSource::kOnePlane;
     } else {
@@ -202,19 +210,18 @@ void Odometry::estimateRotation(FrameState* s) {
     r.key_normals.normal.assign(s->normals.normal.begin(), s->normals.normal.end());
     r.key_normals.valid.assign(s->normals.valid.begin(), s->normals.valid.end());
     r.key_normals.points.assign(s->normals.points.begin(), s->normals.points.end());
+    r.key_normals.smooth.assign(s->normals.smooth.begin(), s->normals.smooth.end());
     r.R_world_key = s->R_world_cam;
     r.frames_since_key = 0;
   }
-  r.R_prevprev = r.R_prev;
-  r.R_prev = s->R_world_cam;
-  ++r.history;
+  r.motion.update(rotationOnly(s->R_world_cam), s->rotation_source == RotationSource::kPlanes ||
+                                                    s->rotation_source == RotationSource::kInitial);
   s->times.rotation_s = secondsSince(t0);
 }
 
 void Odometry::makeTranslationKeyframe(const FrameState& s, const Isometry3d& T_world_cam) {
   TranslationState& t = *trans_;
-  const CloudView cloud{s.points.data(), s.intensity.data(), s.points.size(),
-                        point_weight_.data()};
+  const CloudView cloud{s.points.data(), s.intensity.data(), s.points.size(), point_weight_.data()};
   const int W = config_.projection_width, H = config_.projection_height;
   const double r = t.projector.resolutionFor(cloud, Eigen::Matrix3f::Identity(), W, H,
                                              config_.projection_inlier_fraction);
@@ -253,7 +260,7 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
   out.rotation_keyframe = s->rotation_keyframe;
   out.overlap_pixels = s->overlap_pixels;
 
-  const Isometry3d T_pred = predictNext(t.T_prev, t.T_prevprev, t.history >= 2);
+  const Isometry3d T_pred = t.motion.predict();
   Isometry3d T = Isometry3d::Identity();
   T.linear() = s->R_world_cam;
   const char* translation_problem = nullptr;
@@ -262,7 +269,7 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
     T.translation() = T_pred.translation();
     translation_problem = "too little valid depth; pose predicted";
   } else if (!t.has_keyframe) {
-    if (t.history) T.translation() = T_pred.translation();
+    T.translation() = T_pred.translation();
     makeTranslationKeyframe(*s, T);
     out.translation_keyframe = t.has_keyframe;
   } else {
@@ -333,9 +340,7 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
     t.degraded_frames = 0;
   }
   out.T_world_cam = T;
-  t.T_prevprev = t.T_prev;
-  t.T_prev = T;
-  ++t.history;
+  t.motion.update(T, out.state == TrackingState::kOk);
   s->times.translation_s = secondsSince(t0);
   out.times = s->times;
   return out;

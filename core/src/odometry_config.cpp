@@ -28,18 +28,23 @@ std::string OdometryConfig::validate() const {
   if (!in(mode_dot, 0, 1)) return "mode_dot must be in [0, 1]";
   if (!in(min_plane_fraction, 1e-4, 1)) return "min_plane_fraction must be in [1e-4, 1]";
   if (!in(parallel_dot, 0, 1)) return "parallel_dot must be in [0, 1]";
-  if (!in(plane_unchanged_tolerance, 0, 0.5)) return "plane_unchanged_tolerance must be in [0, 0.5]";
+  if (!in(plane_unchanged_tolerance, 0, 0.5))
+    return "plane_unchanged_tolerance must be in [0, 0.5]";
   if (max_modes < 2 || max_modes > 64) return "max_modes must be in 2..64";
   if (rotation_keyframe_interval < 1) return "rotation_keyframe_interval must be at least 1";
-  if (!in(rotation_keyframe_min_overlap, 0, 1)) return "rotation_keyframe_min_overlap must be in [0, 1]";
-  if (!in(rotation_keyframe_max_angle, 0, 1.5)) return "rotation_keyframe_max_angle must be in [0, 1.5]";
+  if (!in(rotation_keyframe_min_overlap, 0, 1))
+    return "rotation_keyframe_min_overlap must be in [0, 1]";
+  if (!in(rotation_keyframe_max_angle, 0, 1.5))
+    return "rotation_keyframe_max_angle must be in [0, 1.5]";
   if (projection_width < 16 || projection_width > 4096 || projection_width % 2)
     return "projection_width must be even and in 16..4096";
   if (projection_height < 16 || projection_height > 4096 || projection_height % 2)
     return "projection_height must be even and in 16..4096";
   if (projection_stride < 1 || projection_stride > 8) return "projection_stride must be in 1..8";
-  if (!in(projection_inlier_fraction, 0.05, 1)) return "projection_inlier_fraction must be in [0.05, 1]";
-  if (projection_fill_gap < 0 || projection_fill_gap > 16) return "projection_fill_gap must be in 0..16";
+  if (!in(projection_inlier_fraction, 0.05, 1))
+    return "projection_inlier_fraction must be in [0.05, 1]";
+  if (projection_fill_gap < 0 || projection_fill_gap > 16)
+    return "projection_fill_gap must be in 0..16";
   if (!in(projection_border_fade, 0, 0.5)) return "projection_border_fade must be in [0, 0.5]";
   if (!in(kcc_sigma, 1e-3, 100)) return "kcc_sigma must be in [1e-3, 100]";
   if (!in(kcc_lambda, 1e-6, 1e3)) return "kcc_lambda must be in [1e-6, 1e3]";

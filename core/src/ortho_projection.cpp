@@ -92,12 +92,12 @@ void OrthoProjector::fillGaps(OrthoImage* img, int max_gap, float relative_depth
   if (max_gap <= 0) return;
   const int W = img->width, H = img->height;
   for (int v = 0; v < H; ++v) {
-    fillLine(&img->gray[size_t(v) * W], &img->depth[size_t(v) * W], &img->weight[size_t(v) * W], W, 1, max_gap,
-             relative_depth_jump);
+    fillLine(&img->gray[size_t(v) * W], &img->depth[size_t(v) * W], &img->weight[size_t(v) * W], W,
+             1, max_gap, relative_depth_jump);
   }
   for (int u = 0; u < W; ++u) {
-    fillLine(&img->gray[size_t(u)], &img->depth[size_t(u)], &img->weight[size_t(u)], H, size_t(W), max_gap,
-             relative_depth_jump);
+    fillLine(&img->gray[size_t(u)], &img->depth[size_t(u)], &img->weight[size_t(u)], H, size_t(W),
+             max_gap, relative_depth_jump);
   }
 }
 

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-#include <tuple>
 
 namespace nidevo {
 
@@ -20,38 +19,126 @@ const char* toString(PlaneNormalEstimator e) {
 
 namespace {
 
-bool smoothAround(const NormalMap& m, size_t i, int W, float crease_dot) {
-  const Eigen::Vector3f& n = m.normal[i];
-  for (size_t j : {i - 1, i + 1, i - size_t(W), i + size_t(W)}) {
-    if (!m.valid[j] || n.dot(m.normal[j]) < crease_dot) return false;
+struct Plane {
+  Eigen::Vector3f normal;
+  Eigen::Vector3f centroid;
+};
+
+// Least-squares plane through the points of `pixels`, its normal on the side of the smoothed
+// normals (towards the camera).
+Plane fitPlane(const NormalMap& map, const int* pixels, size_t count) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), mean_normal = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  for (size_t k = 0; k < count; ++k) {
+    const Eigen::Vector3d q = map.points[size_t(pixels[k])].cast<double>();
+    sum += q;
+    outer += q * q.transpose();
+    mean_normal += map.normal[size_t(pixels[k])].cast<double>();
   }
-  return true;
+  const Eigen::Vector3d centroid = sum / double(count);
+  const Eigen::Matrix3d cov = outer / double(count) - centroid * centroid.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(cov);
+  Eigen::Vector3d normal = eig.eigenvectors().col(0);  // smallest eigenvalue
+  if (normal.dot(mean_normal) < 0) normal = -normal;
+  return {normal.cast<float>(), centroid.cast<float>()};
 }
 
 }  // namespace
 
-void PlaneTracker::track(const NormalMap& key, const NormalMap& cur,
-                         const PlaneTrackingParams& p, PlaneTrackingResult* out) {
+Eigen::Vector3f PlaneTracker::medianNormal(const NormalMap& map, const int* pixels, size_t count) {
+  Eigen::Vector3f r;
+  for (int c = 0; c < 3; ++c) {
+    for (size_t k = 0; k < count; ++k) scratch_[k] = map.normal[size_t(pixels[k])][c];
+    std::nth_element(scratch_.begin(), scratch_.begin() + long(count / 2),
+                     scratch_.begin() + long(count));
+    r[c] = scratch_[count / 2];
+  }
+  return r.normalized();
+}
+
+PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, int* pixels,
+                                   size_t count, const PlaneTrackingParams& p) {
+  // A mode holds every surface of one orientation within acos(mode_dot): keep the pixels in a
+  // narrow cone around its median orientation, then the dominant offset n.p only (the largest of
+  // parallel planes), chosen in the keyframe and used for both frames.
+  const Eigen::Vector3f axis = medianNormal(key, pixels, count);
+  size_t kept = 0;
+  for (size_t k = 0; k < count; ++k) {
+    if (key.normal[size_t(pixels[k])].dot(axis) >= p.fit_cone_dot) pixels[kept++] = pixels[k];
+  }
+  constexpr float kBin = 0.02f;  // metres
+  constexpr int kBins = 1024;
+  histogram_.assign(kBins, 0);
+  auto bin_of = [&](int pixel) {
+    return std::clamp(int(std::floor(-axis.dot(key.points[size_t(pixel)]) / kBin)), 0, kBins - 1);
+  };
+  for (size_t k = 0; k < kept; ++k) ++histogram_[size_t(bin_of(pixels[k]))];
+  int peak = 1, best = -1;  // the densest window of three bins
+  for (int b = 1; b + 1 < kBins; ++b) {
+    const int w = histogram_[size_t(b - 1)] + histogram_[size_t(b)] + histogram_[size_t(b + 1)];
+    if (w > best) best = w, peak = b;
+  }
+  const float d0 = (float(peak) + 0.5f) * kBin, tolerance = 0.05f + 0.03f * d0;
+  count = kept;
+  kept = 0;
+  for (size_t k = 0; k < count; ++k) {
+    if (std::abs(-axis.dot(key.points[size_t(pixels[k])]) - d0) < tolerance)
+      pixels[kept++] = pixels[k];
+  }
+  count = kept;
+  if (count < 3) return {axis, axis, 0};
+
+  // Points of a neighbouring surface whose smoothed normals lean towards this plane (near a
+  // shallow crease) pull the fit: refit on the points close to both frames' planes.
+  Plane pk = fitPlane(key, pixels, count), pc = fitPlane(cur, pixels, count);
+  for (int iteration = 0; iteration < 2; ++iteration) {
+    for (size_t k = 0; k < count; ++k) {
+      const size_t i = size_t(pixels[k]);
+      scratch_[k] =
+          std::max(std::abs(pk.normal.dot(key.points[i] - pk.centroid)) / key.points[i].z(),
+                   std::abs(pc.normal.dot(cur.points[i] - pc.centroid)) / cur.points[i].z());
+    }
+    std::copy(scratch_.begin(), scratch_.begin() + long(count), residual_.begin());
+    std::nth_element(residual_.begin(), residual_.begin() + long(count / 2),
+                     residual_.begin() + long(count));
+    const float limit = std::max(3.f * 1.4826f * residual_[count / 2], 1e-4f);
+    kept = 0;
+    for (size_t k = 0; k < count; ++k)
+      if (scratch_[k] <= limit) pixels[kept++] = pixels[k];
+    if (kept < 3 || kept == count) break;
+    count = kept;
+    pk = fitPlane(key, pixels, count);
+    pc = fitPlane(cur, pixels, count);
+  }
+  return {pk.normal, pc.normal, int(count)};
+}
+
+void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const PlaneTrackingParams& p,
+                         PlaneTrackingResult* out) {
   const int W = key.width, H = key.height;
   const size_t n = size_t(W) * size_t(H);
-  mode_of_.assign(n, -1);
-  seeds_.resize(size_t(p.max_modes));
-  counts_.assign(size_t(p.max_modes), 0);
-  scratch_.resize(n);
+  overlap_pixel_.resize(n);
+  overlap_mode_.resize(n);
   members_.resize(n);
+  scratch_.resize(n);
   residual_.resize(n);
+  seeds_.resize(size_t(p.max_modes));
+  counts_.assign(size_t(p.max_modes) + 1, 0);
   out->overlap_pixels = 0;
   out->planes.clear();
 
+  // Alg. 1: a pixel co-planar in both frames joins the first mode within mode_dot of its
+  // keyframe normal, or opens a new one.
   const int border = std::max(p.border, 1);
   int modes = 0;
+  size_t overlap = 0;
   for (int v = border; v < H - border; ++v) {
     for (int u = border; u < W - border; ++u) {
-      const size_t i = size_t(v) * W + u;
-      if (!key.valid[i] || !cur.valid[i]) continue;
+      const size_t i = size_t(v) * size_t(W) + size_t(u);
+      if (!key.smooth[i] || !cur.smooth[i]) continue;
       const Eigen::Vector3f& nk = key.normal[i];
       if (nk.dot(cur.normal[i]) < p.overlap_dot) continue;
-      if (!smoothAround(key, i, W, p.crease_dot) || !smoothAround(cur, i, W, p.crease_dot)) continue;
       ++out->overlap_pixels;
       int m = 0;
       while (m < modes && nk.dot(seeds_[size_t(m)]) < p.mode_dot) ++m;
@@ -59,109 +146,26 @@ void PlaneTracker::track(const NormalMap& key, const NormalMap& cur,
         if (modes == p.max_modes) continue;
         seeds_[size_t(modes++)] = nk;
       }
-      mode_of_[i] = int8_t(m);
-      ++counts_[size_t(m)];
+      overlap_pixel_[overlap] = int(i);
+      overlap_mode_[overlap++] = int8_t(m);
+      ++counts_[size_t(m) + 1];
     }
   }
+  // Group the pixels by mode (counting sort): mode m owns members_[counts_[m] .. counts_[m+1]).
+  for (int m = 0; m < modes; ++m) counts_[size_t(m) + 1] += counts_[size_t(m)];
+  offsets_.assign(counts_.begin(), counts_.end());
+  for (size_t k = 0; k < overlap; ++k)
+    members_[size_t(offsets_[size_t(overlap_mode_[k])]++)] = overlap_pixel_[k];
 
-  // The median of each component, renormalised: robust against the pixels near plane borders.
-  auto median_normal = [&](int m, const NormalMap& map) {
-    Eigen::Vector3f r;
-    for (int c = 0; c < 3; ++c) {
-      size_t k = 0;
-      for (size_t i = 0; i < n; ++i)
-        if (mode_of_[i] == m) scratch_[k++] = map.normal[i][c];
-      std::nth_element(scratch_.begin(), scratch_.begin() + long(k / 2), scratch_.begin() + long(k));
-      r[c] = scratch_[k / 2];
-    }
-    return r.normalized();
-  };
-  // Depth noise averages out of a least-squares plane, while it stays in smoothed normals. A
-  // mode holds every surface of one orientation, so the fit keeps the dominant offset n.p only
-  // (the largest of parallel planes), chosen in the keyframe and used for both frames.
-  struct Plane {
-    Eigen::Vector3f normal;
-    Eigen::Vector3f centroid;
-  };
-  auto fit_plane = [&](const NormalMap& map, size_t count) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero(), mean_normal = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-    for (size_t k = 0; k < count; ++k) {
-      const Eigen::Vector3d q = map.points[size_t(members_[k])].cast<double>();
-      sum += q;
-      outer += q * q.transpose();
-      mean_normal += map.normal[size_t(members_[k])].cast<double>();
-    }
-    const Eigen::Vector3d centroid = sum / double(count);
-    const Eigen::Matrix3d cov = outer / double(count) - centroid * centroid.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(cov);
-    Eigen::Vector3d normal = eig.eigenvectors().col(0);  // smallest eigenvalue
-    if (normal.dot(mean_normal) < 0) normal = -normal;
-    return Plane{normal.cast<float>(), centroid.cast<float>()};
-  };
-  // Points of a neighbouring surface whose smoothed normals lean towards this plane (near a
-  // shallow crease) pull the fit: refit on the points close to both frames' planes.
-  auto robust_fit = [&](size_t count) {
-    Plane pk = fit_plane(key, count), pc = fit_plane(cur, count);
-    for (int iteration = 0; iteration < 2 && count > 3; ++iteration) {
-      for (size_t k = 0; k < count; ++k) {
-        const size_t i = size_t(members_[k]);
-        scratch_[k] = std::max(std::abs(pk.normal.dot(key.points[i] - pk.centroid)) / key.points[i].z(),
-                               std::abs(pc.normal.dot(cur.points[i] - pc.centroid)) / cur.points[i].z());
-      }
-      std::copy(scratch_.begin(), scratch_.begin() + long(count), residual_.begin());
-      std::nth_element(residual_.begin(), residual_.begin() + long(count / 2),
-                       residual_.begin() + long(count));
-      const float limit = std::max(3.f * 1.4826f * residual_[count / 2], 1e-4f);
-      size_t kept = 0;
-      for (size_t k = 0; k < count; ++k)
-        if (scratch_[k] <= limit) members_[kept++] = members_[k];
-      if (kept < 3 || kept == count) break;
-      count = kept;
-      pk = fit_plane(key, count);
-      pc = fit_plane(cur, count);
-    }
-    return std::make_tuple(pk.normal, pc.normal, int(count));
-  };
-  auto fitted_pair = [&](int m) {
-    // Members within a narrow cone around the mode's median orientation only: a mode may hold
-    // surfaces up to acos(mode_dot) apart.
-    const Eigen::Vector3f seed = median_normal(m, key);
-    auto in_cone = [&](size_t i) { return key.normal[i].dot(seed) >= p.fit_cone_dot; };
-    constexpr float kBin = 0.02f;  // metres
-    constexpr int kBins = 1024;
-    offset_histogram_.assign(kBins, 0);
-    for (size_t i = 0; i < n; ++i) {
-      if (mode_of_[i] != m || !in_cone(i)) continue;
-      const int b = std::clamp(int(std::floor(-seed.dot(key.points[i]) / kBin)), 0, kBins - 1);
-      ++offset_histogram_[size_t(b)];
-    }
-    int peak = 0;  // the densest 3-bin window
-    for (int b = 1; b + 1 < kBins; ++b) {
-      const int w = offset_histogram_[size_t(b - 1)] + offset_histogram_[size_t(b)] +
-                    offset_histogram_[size_t(b + 1)];
-      const int best = offset_histogram_[size_t(std::max(peak - 1, 0))] +
-                       offset_histogram_[size_t(peak)] + offset_histogram_[size_t(peak + 1)];
-      if (w > best) peak = b;
-    }
-    const float d0 = (float(peak) + 0.5f) * kBin, tolerance = 0.05f + 0.03f * d0;
-    size_t count = 0;
-    for (size_t i = 0; i < n; ++i) {
-      if (mode_of_[i] == m && in_cone(i) && std::abs(-seed.dot(key.points[i]) - d0) < tolerance) {
-        members_[count++] = int(i);
-      }
-    }
-    if (count < 3) return PlanePair{seed, seed, 0};
-    const auto [nk, nc, kept] = robust_fit(count);
-    return PlanePair{nk, nc, kept};
-  };
   for (int m = 0; m < modes; ++m) {
-    if (counts_[size_t(m)] < p.min_plane_pixels) continue;
+    int* pixels = &members_[size_t(counts_[size_t(m)])];
+    const size_t count = size_t(counts_[size_t(m) + 1] - counts_[size_t(m)]);
+    if (int(count) < p.min_plane_pixels) continue;
     if (p.estimator == PlaneNormalEstimator::kMedian) {
-      out->planes.push_back({median_normal(m, key), median_normal(m, cur), counts_[size_t(m)]});
+      out->planes.push_back(
+          {medianNormal(key, pixels, count), medianNormal(cur, pixels, count), int(count)});
     } else {
-      const PlanePair pair = fitted_pair(m);
+      const PlanePair pair = fittedPair(key, cur, pixels, count, p);
       if (pair.pixels >= p.min_plane_pixels) out->planes.push_back(pair);
     }
   }

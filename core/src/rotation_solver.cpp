@@ -41,7 +41,8 @@ Matrix3d rotationFromTwoPlanes(const Vector3d& key1, const Vector3d& cur1, const
   }
   if (same1 || same2) {  // case 2: the unchanged normal is the axis
     const Vector3d axis = (same1 ? key1 : key2).normalized();
-    const double angle = same1 ? angleAboutAxis(axis, key2, cur2) : angleAboutAxis(axis, key1, cur1);
+    const double angle =
+        same1 ? angleAboutAxis(axis, key2, cur2) : angleAboutAxis(axis, key1, cur1);
     report(TwoPlaneCase::kOneUnchanged);
     return Eigen::AngleAxisd(angle, axis).toRotationMatrix();
   }
@@ -94,9 +95,9 @@ std::optional<RotationSolution> solveRotation(const std::vector<PlanePair>& plan
   for (size_t i = 0; i < n; ++i) {
     for (size_t j = i + 1; j < n; ++j) {
       if (!non_parallel(i, j)) continue;
-      const Matrix3d R = rotationFromTwoPlanes(planes[i].key.cast<double>(), planes[i].cur.cast<double>(),
-                                               planes[j].key.cast<double>(), planes[j].cur.cast<double>(),
-                                               unchanged_tolerance);
+      const Matrix3d R = rotationFromTwoPlanes(
+          planes[i].key.cast<double>(), planes[i].cur.cast<double>(), planes[j].key.cast<double>(),
+          planes[j].cur.cast<double>(), unchanged_tolerance);
       double score = 0;  // angular residual of the other planes, weighted by their size
       for (size_t k = 0; k < n; ++k) {
         if (k == i || k == j) continue;

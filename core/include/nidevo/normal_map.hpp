@@ -15,6 +15,7 @@ struct NormalMap {
   std::vector<Eigen::Vector3f> normal;  // unit, towards the camera; meaningful where valid
   std::vector<uint8_t> valid;
   std::vector<Eigen::Vector3f> points;  // back-projected points of the map's pixels, z = 0 if none
+  std::vector<uint8_t> smooth;          // valid, and every 4-neighbour's normal within crease_dot
   void resize(int w, int h);
   int validCount() const;
 };
@@ -25,11 +26,12 @@ class NormalMapBuilder {
   // depth: metres, 0 = missing. stride: subsampling of the depth image (pixel (u,v) of the map
   // is depth pixel (stride*u, stride*v)). Depth outside [min_depth, max_depth] counts as missing.
   void compute(const DepthImageF& depth, const Camera& camera, int stride, int cell_size,
-               float depth_discontinuity, float min_depth, float max_depth, NormalMap* out);
+               float depth_discontinuity, float min_depth, float max_depth, float crease_dot,
+               NormalMap* out);
 
  private:
-  std::vector<Eigen::Vector4f> raw_;   // xyz normal + 1 where valid, 0 elsewhere
-  std::vector<Eigen::Vector4f> tmp_;   // horizontal box sums
+  std::vector<Eigen::Vector4f> raw_;  // xyz normal + 1 where valid, 0 elsewhere
+  std::vector<Eigen::Vector4f> tmp_;  // horizontal box sums
 };
 
 }  // namespace nidevo

@@ -11,6 +11,7 @@
 #include "nidevo/depth_shift.hpp"
 #include "nidevo/image.hpp"
 #include "nidevo/kcc.hpp"
+#include "nidevo/motion_model.hpp"
 #include "nidevo/normal_map.hpp"
 #include "nidevo/odometry_config.hpp"
 #include "nidevo/ortho_projection.hpp"

@@ -17,9 +17,9 @@ struct CloudView {
 struct OrthoImage {
   int width = 0;
   int height = 0;
-  std::vector<float> gray;   // 0.5 where empty (authors)
-  std::vector<float> depth;  // metres along the projection axis, 0 where empty
-  std::vector<float> weight; // contrast weight of the point in the cell
+  std::vector<float> gray;    // 0.5 where empty (authors)
+  std::vector<float> depth;   // metres along the projection axis, 0 where empty
+  std::vector<float> weight;  // contrast weight of the point in the cell
   void resize(int w, int h);
   int filledCount() const;
 };

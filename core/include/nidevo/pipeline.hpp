@@ -10,7 +10,9 @@ namespace nidevo {
 
 using FrameSource = std::function<const RgbdFrame&(size_t index)>;
 
-std::vector<PoseEstimate> runSequential(Odometry& odometry, size_t frames, const FrameSource& source);
-std::vector<PoseEstimate> runPipelined(Odometry& odometry, size_t frames, const FrameSource& source);
+std::vector<PoseEstimate> runSequential(Odometry& odometry, size_t frames,
+                                        const FrameSource& source);
+std::vector<PoseEstimate> runPipelined(Odometry& odometry, size_t frames,
+                                       const FrameSource& source);
 
 }  // namespace nidevo

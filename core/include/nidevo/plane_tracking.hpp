@@ -23,9 +23,8 @@ PlaneNormalEstimator parsePlaneNormalEstimator(const std::string& name);  // med
 const char* toString(PlaneNormalEstimator e);
 
 struct PlaneTrackingParams {
-  int border = 5;            // in normal-map pixels
+  int border = 5;  // in normal-map pixels
   float overlap_dot = 0.9f;
-  float crease_dot = 0.999f;
   float mode_dot = 0.95f;
   int min_plane_pixels = 1000;
   int max_modes = 16;
@@ -34,8 +33,8 @@ struct PlaneTrackingParams {
 };
 
 struct PlaneTrackingResult {
-  int overlap_pixels = 0;        // pixels co-planar in both frames
-  std::vector<PlanePair> planes; // modes with at least min_plane_pixels, largest first
+  int overlap_pixels = 0;         // pixels co-planar in both frames
+  std::vector<PlanePair> planes;  // modes with at least min_plane_pixels, largest first
 };
 
 class PlaneTracker {
@@ -45,13 +44,17 @@ class PlaneTracker {
              PlaneTrackingResult* out);
 
  private:
-  std::vector<int8_t> mode_of_;
-  std::vector<Eigen::Vector3f> seeds_;
-  std::vector<int> counts_;
-  std::vector<float> scratch_;
+  Eigen::Vector3f medianNormal(const NormalMap& map, const int* pixels, size_t count);
+  PlanePair fittedPair(const NormalMap& key, const NormalMap& cur, int* pixels, size_t count,
+                       const PlaneTrackingParams& params);
+
+  std::vector<int> overlap_pixel_;
+  std::vector<int8_t> overlap_mode_;
   std::vector<int> members_;
-  std::vector<float> residual_;
-  std::vector<int> offset_histogram_;
+  std::vector<Eigen::Vector3f> seeds_;
+  std::vector<int> counts_, offsets_;
+  std::vector<float> scratch_, residual_;
+  std::vector<int> histogram_;
 };
 
 }  // namespace nidevo

@@ -1,0 +1,158 @@
+#include "nidevo/odometry.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "nidevo/motion_model.hpp"
+#include "nidevo/pipeline.hpp"
+#include "nidevo/synth_sequence.hpp"
+
+namespace nidevo {
+namespace {
+
+bool finitePose(const Eigen::Isometry3d& T) { return T.matrix().allFinite(); }
+
+synth::SequenceConfig officeConfig(int frames) {
+  synth::SequenceConfig c;
+  c.frames = frames;
+  return c;
+}
+
+TEST(Odometry, RecoversAKnownTranslationBetweenTwoFrames) {
+  const synth::SyntheticSequence seq(officeConfig(1));
+  const Eigen::Isometry3d T0 = seq.groundTruth(0);
+  for (const Eigen::Vector3d d :
+       {Eigen::Vector3d(0.05, 0, 0), Eigen::Vector3d(0, -0.04, 0), Eigen::Vector3d(0, 0, 0.06),
+        Eigen::Vector3d(0.02, -0.03, 0.04)}) {
+    Odometry odometry(seq.config().camera, OdometryConfig{});
+    odometry.track(seq.renderAt(T0, 0.0, 0).frame);
+    Eigen::Isometry3d T1 = T0;
+    T1.translation() += T0.linear() * d;
+    const PoseEstimate p = odometry.track(seq.renderAt(T1, 0.033, 1).frame);
+    EXPECT_EQ(p.state, TrackingState::kOk);
+    EXPECT_EQ(p.rotation_source, RotationSource::kPlanes);
+    EXPECT_GE(p.planes_used, 2);
+    EXPECT_LT((p.T_world_cam.translation() - d).norm(), 0.003) << d.transpose();
+    EXPECT_LT(Eigen::AngleAxisd(p.T_world_cam.rotation()).angle(), 1e-4);
+    EXPECT_GT(p.psr, 20);
+  }
+}
+
+TEST(Odometry, RecoversAKnownRotationBetweenTwoFrames) {
+  const synth::SyntheticSequence seq(officeConfig(1));
+  const Eigen::Isometry3d T0 = seq.groundTruth(0);
+  Odometry odometry(seq.config().camera, OdometryConfig{});
+  odometry.track(seq.renderAt(T0, 0.0, 0).frame);
+  const Eigen::Matrix3d dR =
+      Eigen::AngleAxisd(0.05, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix();
+  Eigen::Isometry3d T1 = T0;
+  T1.linear() = T0.linear() * dR;
+  const PoseEstimate p = odometry.track(seq.renderAt(T1, 0.033, 1).frame);
+  EXPECT_LT(Eigen::AngleAxisd(p.T_world_cam.linear().transpose() * dR).angle(), 1e-3);
+  EXPECT_LT(p.T_world_cam.translation().norm(), 0.005);
+}
+
+TEST(Odometry, NoValidDepthIsLostButFiniteAndRecovers) {
+  const synth::SyntheticSequence seq(officeConfig(6));
+  Odometry odometry(seq.config().camera, OdometryConfig{});
+  odometry.track(seq.renderFrame(0));
+  RgbdFrame empty = seq.renderFrame(1);
+  std::fill(empty.depth.data.begin(), empty.depth.data.end(), 0.f);
+  const PoseEstimate lost = odometry.track(empty);
+  EXPECT_EQ(lost.state, TrackingState::kLost);
+  EXPECT_NE(std::string(lost.reason), "");
+  EXPECT_TRUE(finitePose(lost.T_world_cam));
+  RgbdFrame nan_depth = seq.renderFrame(2);
+  std::fill(nan_depth.depth.data.begin(), nan_depth.depth.data.end(), std::nanf(""));
+  EXPECT_TRUE(finitePose(odometry.track(nan_depth).T_world_cam));
+  const PoseEstimate back = odometry.track(seq.renderFrame(3));
+  EXPECT_TRUE(finitePose(back.T_world_cam));
+  EXPECT_EQ(back.state, TrackingState::kOk);
+}
+
+TEST(Odometry, OnePlaneIsDegradedNotGarbage) {
+  const synth::SyntheticSequence seq(officeConfig(1));
+  const Camera cam = seq.config().camera;
+  // A single wall 2 m ahead fills the view.
+  RgbdFrame wall = seq.renderFrame(0);
+  std::fill(wall.depth.data.begin(), wall.depth.data.end(), 2.f);
+  Odometry odometry(cam, OdometryConfig{});
+  odometry.track(wall);
+  wall.timestamp += 0.033;
+  const PoseEstimate p = odometry.track(wall);
+  EXPECT_EQ(p.state, TrackingState::kDegraded);
+  EXPECT_LE(p.planes_used, 1);
+  EXPECT_NE(p.rotation_source, RotationSource::kPlanes);
+  EXPECT_TRUE(finitePose(p.T_world_cam));
+  EXPECT_LT(p.T_world_cam.translation().norm(), 0.01);
+}
+
+TEST(Odometry, AllBlackImageDoesNotCrashOrProduceNaN) {
+  const synth::SyntheticSequence seq(officeConfig(3));
+  Odometry odometry(seq.config().camera, OdometryConfig{});
+  for (int i = 0; i < 3; ++i) {
+    RgbdFrame f = seq.renderFrame(i);
+    std::fill(f.gray.data.begin(), f.gray.data.end(), uint8_t(0));
+    const PoseEstimate p = odometry.track(f);
+    EXPECT_TRUE(finitePose(p.T_world_cam));
+    EXPECT_TRUE(std::isfinite(p.psr));
+  }
+}
+
+TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
+  const Camera cam = *cameraPreset("icl");
+  Odometry odometry(cam, OdometryConfig{});
+  RgbdFrame small;
+  small.gray.resize(320, 240);
+  small.depth.resize(320, 240);
+  try {
+    odometry.track(small);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("320x240 but the camera is 640x480"), std::string::npos);
+  }
+  OdometryConfig bad;
+  bad.cell_size = 0;
+  try {
+    Odometry o(cam, bad);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("cell_size"), std::string::npos);
+  }
+  bad = OdometryConfig{};
+  bad.projection_width = 17;
+  EXPECT_THROW(Odometry(cam, bad), std::invalid_argument);
+  Camera bad_cam = cam;
+  bad_cam.fy = 0;
+  EXPECT_THROW(Odometry(bad_cam, OdometryConfig{}), std::invalid_argument);
+}
+
+TEST(Pipeline, ThreeThreadsGiveTheSequentialPoses) {
+  const synth::SyntheticSequence seq(officeConfig(40));
+  std::vector<RgbdFrame> frames;
+  for (int i = 0; i < seq.size(); ++i) frames.push_back(seq.renderFrame(i));
+  auto source = [&](size_t i) -> const RgbdFrame& { return frames[i]; };
+  Odometry a(seq.config().camera, OdometryConfig{}), b(seq.config().camera, OdometryConfig{});
+  const auto sequential = runSequential(a, frames.size(), source);
+  const auto pipelined = runPipelined(b, frames.size(), source);
+  ASSERT_EQ(sequential.size(), pipelined.size());
+  for (size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_EQ(pipelined[i].frame_index, i);
+    EXPECT_TRUE(sequential[i].T_world_cam.isApprox(pipelined[i].T_world_cam, 1e-12)) << i;
+  }
+}
+
+TEST(MotionModel, DecaysTowardsStandingStill) {
+  MotionModel model(0.5);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  model.update(T, true);
+  T.translation().x() = 0.1;
+  model.update(T, true);
+  EXPECT_NEAR(model.predict().translation().x(), 0.2, 1e-12);
+  model.update(model.predict(), false);
+  EXPECT_NEAR(model.predict().translation().x(), 0.2 + 0.1 * 0.5, 1e-12);
+}
+
+}  // namespace
+}  // namespace nidevo
