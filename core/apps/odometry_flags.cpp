@@ -32,6 +32,8 @@ ABSL_FLAG(double, border_fade, kDefaults.projection_border_fade,
 ABSL_FLAG(int, fill_gap, kDefaults.projection_fill_gap,
           "Fill projection holes of up to this many cells within one surface (0: off)");
 ABSL_FLAG(bool, subpixel, kDefaults.subpixel_peak, "Sub-pixel refinement of the KCC peak");
+ABSL_FLAG(int, rotation_keyframe_interval, kDefaults.rotation_keyframe_interval,
+          "Renew the rotation keyframe at least every this many frames");
 ABSL_FLAG(double, psr_bound, kDefaults.psr_bound,
           "Translation keyframe renewed at or below this PSR");
 
@@ -53,6 +55,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.projection_border_fade = float(absl::GetFlag(FLAGS_border_fade));
   c.projection_fill_gap = absl::GetFlag(FLAGS_fill_gap);
   c.subpixel_peak = absl::GetFlag(FLAGS_subpixel);
+  c.rotation_keyframe_interval = absl::GetFlag(FLAGS_rotation_keyframe_interval);
   c.psr_bound = float(absl::GetFlag(FLAGS_psr_bound));
   if (auto e = c.validate(); !e.empty()) throw std::invalid_argument(e);
   return c;

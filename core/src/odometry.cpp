@@ -179,8 +179,9 @@ void Odometry::estimateRotation(FrameState* s) {
 
     const Matrix3d R_key_pred = r.R_world_key.transpose() * R_pred;
     Matrix3d R_key_cur;
-    const auto solution = solveRotation(r.tracked.planes, config_.rotation_method,
-                                        config_.parallel_dot, config_.plane_unchanged_tolerance);
+    const auto solution =
+        solveRotation(r.tracked.planes, config_.rotation_method, config_.parallel_dot,
+                      config_.plane_unchanged_tolerance, config_.plane_max_residual);
     if (solution) {
       R_key_cur = solution->rotation;
       s->planes_used = solution->planes_used;

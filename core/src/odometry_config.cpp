@@ -30,6 +30,7 @@ std::string OdometryConfig::validate() const {
   if (!in(parallel_dot, 0, 1)) return "parallel_dot must be in [0, 1]";
   if (!in(plane_unchanged_tolerance, 0, 0.5))
     return "plane_unchanged_tolerance must be in [0, 0.5]";
+  if (!in(plane_max_residual, 1e-5, 1)) return "plane_max_residual must be in [1e-5, 1]";
   if (max_modes < 2 || max_modes > 64) return "max_modes must be in 2..64";
   if (rotation_keyframe_interval < 1) return "rotation_keyframe_interval must be at least 1";
   if (!in(rotation_keyframe_min_overlap, 0, 1))

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace nidevo {
@@ -74,7 +75,7 @@ Matrix3d minimalRotation(const Vector3d& from, const Vector3d& to) {
 
 std::optional<RotationSolution> solveRotation(const std::vector<PlanePair>& planes,
                                               RotationMethod method, double parallel_dot,
-                                              double unchanged_tolerance) {
+                                              double unchanged_tolerance, double max_residual) {
   const size_t n = planes.size();
   auto non_parallel = [&](size_t i, size_t j) {
     return std::abs(planes[i].key.dot(planes[j].key)) < parallel_dot &&
@@ -88,7 +89,39 @@ std::optional<RotationSolution> solveRotation(const std::vector<PlanePair>& plan
   RotationSolution best;
   best.planes_used = int(n);
   if (method == RotationMethod::kClosedForm) {
-    best.rotation = rotationClosedForm(planes);
+    // Weighted fit over all planes; a plane that disagrees (a mis-fitted or mis-associated one)
+    // is dropped and the fit repeated, while two non-parallel planes remain.
+    uint64_t used = n >= 64 ? ~uint64_t(0) : (uint64_t(1) << n) - 1;
+    auto is_used = [&](size_t i) { return i < 64 && (used >> i) & 1; };
+    for (;;) {
+      Matrix3d H = Matrix3d::Zero();
+      int count = 0;
+      for (size_t i = 0; i < n; ++i) {
+        if (!is_used(i)) continue;
+        H += double(planes[i].pixels) * planes[i].key.cast<double>() *
+             planes[i].cur.cast<double>().transpose();
+        ++count;
+      }
+      best.rotation = kabsch(H);
+      best.planes_used = count;
+      size_t worst = n;
+      double worst_residual = max_residual;
+      for (size_t i = 0; i < n; ++i) {
+        if (!is_used(i)) continue;
+        const double c =
+            (best.rotation * planes[i].cur.cast<double>()).dot(planes[i].key.cast<double>());
+        const double residual = std::acos(std::clamp(c, -1.0, 1.0));
+        if (residual > worst_residual) worst_residual = residual, worst = i;
+      }
+      if (worst == n || count <= 2) break;
+      const uint64_t without = used & ~(uint64_t(1) << worst);
+      bool pair_left = false;
+      for (size_t i = 0; i < n && !pair_left; ++i)
+        for (size_t j = i + 1; j < n && !pair_left; ++j)
+          pair_left = ((without >> i) & 1) && ((without >> j) & 1) && non_parallel(i, j);
+      if (!pair_left) break;
+      used = without;
+    }
     return best;
   }
   double best_score = std::numeric_limits<double>::infinity();

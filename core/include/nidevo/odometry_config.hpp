@@ -31,6 +31,7 @@ struct OdometryConfig {
   int max_modes = 16;
   RotationMethod rotation_method = RotationMethod::kClosedForm;         // paper: kBestPair
   PlaneNormalEstimator plane_normal = PlaneNormalEstimator::kPlaneFit;  // paper: kMedian
+  float plane_max_residual = 0.01f;          // rad; closed_form drops planes that disagree more
   float plane_unchanged_tolerance = 0.002f;  // |n_key - n_cur| below this: the plane did not turn
   int rotation_keyframe_interval = 5;
   float rotation_keyframe_min_overlap = 0.065f;  // fraction; authors: 5000 px at 320x240
@@ -52,7 +53,8 @@ struct OdometryConfig {
   float kcc_depth_weight = 0.5f;  // per metre of depth difference
   bool subpixel_peak = true;
   int psr_exclusion = 5;              // side lobe excludes (2n+1)^2 around the peak
-  float psr_bound = 50.0f;            // translation keyframe renewed at or below
+  float psr_bound = 20.0f;            // translation keyframe renewed at or below (authors: 50,
+                                      // with their delta label; README, ablation)
   float psr_min = 8.0f;               // below: the KCC match is not trusted
   float depth_gray_tolerance = 0.1f;  // Eq. 18 inlier test on intensity
   float depth_inlier_m = 0.1f;        // Eq. 18 inlier test on the depth difference

@@ -32,10 +32,12 @@ struct RotationSolution {
   int planes_used = 0;  // planes that defined or scored the rotation
 };
 
-// nullopt when fewer than two mutually non-parallel planes exist.
+// nullopt when fewer than two mutually non-parallel planes exist. kClosedForm drops planes whose
+// angular residual exceeds max_residual (radians) while two non-parallel planes remain.
 std::optional<RotationSolution> solveRotation(const std::vector<PlanePair>& planes,
                                               RotationMethod method, double parallel_dot,
-                                              double unchanged_tolerance);
+                                              double unchanged_tolerance,
+                                              double max_residual = 0.01);
 
 // The smallest rotation that turns `from` into `to` (both unit).
 Eigen::Matrix3d minimalRotation(const Eigen::Vector3d& from, const Eigen::Vector3d& to);
