@@ -74,19 +74,23 @@ void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, i
       if (u - lo >= 0) acc -= row[u - lo];
     }
   }
-  for (int u = 0; u < W; ++u) {
-    Eigen::Vector4f acc = Eigen::Vector4f::Zero();
-    for (int v = 0; v <= std::min(hi, H - 1); ++v) acc += tmp_[size_t(v) * W + u];
-    for (int v = 0; v < H; ++v) {
+  // Vertical pass row by row (one running sum per column), so memory is read in order.
+  column_sums_.assign(size_t(W), Eigen::Vector4f::Zero());
+  for (int v = 0; v <= std::min(hi, H - 1); ++v)
+    for (int u = 0; u < W; ++u) column_sums_[size_t(u)] += tmp_[size_t(v) * W + u];
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
       const size_t i = size_t(v) * W + u;
-      const Eigen::Vector3f s = acc.head<3>();
+      const Eigen::Vector3f s = column_sums_[size_t(u)].head<3>();
       const float len = s.norm();
       const bool ok = raw_[i].w() > 0.f && len > 1e-6f;
       out->valid[i] = ok;
       out->normal[i] = ok ? Eigen::Vector3f(s / len) : Eigen::Vector3f::Zero();
-      if (v + hi + 1 < H) acc += tmp_[size_t(v + hi + 1) * W + u];
-      if (v - lo >= 0) acc -= tmp_[size_t(v - lo) * W + u];
     }
+    if (v + hi + 1 < H)
+      for (int u = 0; u < W; ++u) column_sums_[size_t(u)] += tmp_[size_t(v + hi + 1) * W + u];
+    if (v - lo >= 0)
+      for (int u = 0; u < W; ++u) column_sums_[size_t(u)] -= tmp_[size_t(v - lo) * W + u];
   }
 
   // Pixels on a crease (a 4-neighbour normal differs) are useless for plane tracking; marking

@@ -32,6 +32,7 @@ class NormalMapBuilder {
  private:
   std::vector<Eigen::Vector4f> raw_;  // xyz normal + 1 where valid, 0 elsewhere
   std::vector<Eigen::Vector4f> tmp_;  // horizontal box sums
+  std::vector<Eigen::Vector4f> column_sums_;
 };
 
 }  // namespace nidevo

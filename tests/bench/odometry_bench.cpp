@@ -1,0 +1,100 @@
+// Per-stage and whole-frame cost of the odometry at 640x480 on one thread. Reports medians over
+// repetitions; asserts nothing about time.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+
+#include "nidevo/odometry.hpp"
+#include "nidevo/synth_sequence.hpp"
+
+namespace nidevo {
+namespace {
+
+// Frames of the office sequence, rendered once per process.
+const std::vector<RgbdFrame>& frames() {
+  static const std::vector<RgbdFrame> cache = [] {
+    synth::SequenceConfig c;
+    c.frames = 40;
+    c.texture = synth::TextureRichness::kLow;
+    c.noise = synth::SensorNoise::kIclLike;
+    const synth::SyntheticSequence seq(c);
+    std::vector<RgbdFrame> out;
+    for (int i = 0; i < seq.size(); ++i) out.push_back(seq.renderFrame(i));
+    return out;
+  }();
+  return cache;
+}
+
+const Camera& camera() {
+  static const Camera c = *cameraPreset("icl");
+  return c;
+}
+
+// Back and forth through the sequence, so that the motion stays smooth for any iteration count.
+const RgbdFrame& frameAt(size_t k) {
+  const size_t n = frames().size(), period = 2 * (n - 1), i = k % period;
+  return frames()[i < n ? i : period - i];
+}
+
+void BM_WholeFrame(benchmark::State& state) {
+  Odometry odometry(camera(), OdometryConfig{});
+  size_t k = 0;
+  for (; k < 10; ++k) odometry.track(frameAt(k));
+  for (auto _ : state) benchmark::DoNotOptimize(odometry.track(frameAt(k++)));
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_WholeFrame)->Unit(benchmark::kMillisecond);
+
+// The stages are timed inside one tracking loop (each needs the previous ones' state), with
+// manual timing of the stage under test.
+template <int kStage>
+void BM_Stage(benchmark::State& state) {
+  Odometry odometry(camera(), OdometryConfig{});
+  FrameState frame_state;
+  size_t k = 0;
+  auto step = [&](int timed) {
+    frame_state.frame_index = k;
+    const RgbdFrame& f = frameAt(k++);
+    double seconds = 0;
+    auto time = [&](int stage, auto&& fn) {
+      const auto t0 = std::chrono::steady_clock::now();
+      fn();
+      if (stage == timed)
+        seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    time(0, [&] { odometry.computeNormals(f, &frame_state); });
+    time(1, [&] { odometry.estimateRotation(&frame_state); });
+    time(2, [&] { benchmark::DoNotOptimize(odometry.estimateTranslation(&frame_state)); });
+    return seconds;
+  };
+  for (int i = 0; i < 10; ++i) step(-1);
+  for (auto _ : state) state.SetIterationTime(step(kStage));
+}
+BENCHMARK_TEMPLATE(BM_Stage, 0)
+    ->Name("BM_Stage1_NormalMap")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Stage, 1)
+    ->Name("BM_Stage2_Rotation")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Stage, 2)
+    ->Name("BM_Stage3_Translation")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+
+void BM_KccMatch(benchmark::State& state) {
+  const int w = int(state.range(0)), h = int(state.range(1));
+  KernelCrossCorrelator kcc(w, h, 1, 0.2, 0.1, 2.0);
+  std::vector<float> image(size_t(w) * size_t(h));
+  for (size_t i = 0; i < image.size(); ++i) image[i] = float((i * 2654435761u) % 1000) / 1000.f;
+  const float* channels[] = {image.data()};
+  kcc.train(channels);
+  for (auto _ : state) benchmark::DoNotOptimize(kcc.match(channels, true, 5));
+}
+BENCHMARK(BM_KccMatch)->Args({320, 240})->Args({480, 360})->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace nidevo
+
+BENCHMARK_MAIN();
