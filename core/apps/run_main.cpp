@@ -6,11 +6,10 @@
 
 #include "absl/flags/flag.h"
 #include "cli.hpp"
+#include "evaluation_report.hpp"
 #include "frame_loader.hpp"
-#include "nidevo/metrics.hpp"
 #include "nidevo/odometry.hpp"
 #include "nidevo/pipeline.hpp"
-#include "nidevo/trajectory_plot.hpp"
 #include "odometry_flags.hpp"
 
 ABSL_FLAG(std::string, dataset, "", "TUM/ICL-NUIM sequence folder (default: a synthetic scene)");
@@ -102,24 +101,9 @@ int main(int argc, char** argv) {
       std::printf("trajectory written to %s\n", out.c_str());
     }
     if (!seq.ground_truth.empty()) {
-      const auto matched = nidevo::matchByTimestamp(estimate, seq.ground_truth, 0.005);
-      const auto ate = nidevo::computeAte(matched);
-      const auto rpe = nidevo::computeRpe(matched, 1);
-      std::cout
-          << "\n"
-          << nidevo::formatStatisticsTable("APE w.r.t. translation part", ate.translation, "m")
-          << "\n"
-          << nidevo::formatStatisticsTable("RPE translation, delta 1 frame", rpe.translation, "m")
-          << "\n"
-          << nidevo::formatStatisticsTable("RPE rotation, delta 1 frame", rpe.rotation, "deg");
-      const std::string plot = absl::GetFlag(FLAGS_plot);
-      if (!plot.empty()) {
-        char title[160];
-        std::snprintf(title, sizeof(title), "%s: ATE RMSE %.4f m", seq.name.c_str(),
-                      ate.translation.rmse);
-        nidevo::writeTrajectoryPlot(plot, ate.reference, ate.aligned_estimate, title);
-        std::printf("\nplot written to %s\n", plot.c_str());
-      }
+      std::printf("\n");
+      nidevo::cli::printEvaluation(estimate, seq.ground_truth, 0.005, 1, absl::GetFlag(FLAGS_plot),
+                                   seq.name + ": ");
     }
   } catch (const std::exception& e) {
     std::cerr << "nidevo-run: " << e.what() << "\n";
