@@ -15,8 +15,9 @@ DepthShift DepthShiftEstimator::estimate(const OrthoImage& key, const OrthoImage
   // Depth change over two cells allowed by the slope limit.
   const float slope_limit = p.max_slope > 0 ? float(2.0 * p.resolution * p.max_slope) : 0.f;
   const float w00 = (1 - fu) * (1 - fv), w10 = fu * (1 - fv), w01 = (1 - fu) * fv, w11 = fu * fv;
-  for (int v = std::max(0, -iv); v < std::min(H, H - iv - 1); ++v) {
-    for (int u = std::max(0, -iu); u < std::min(W, W - iu - 1); ++u) {
+  const int step = std::max(1, p.sample_step);
+  for (int v = std::max(0, -iv); v < std::min(H, H - iv - 1); v += step) {
+    for (int u = std::max(0, -iu); u < std::min(W, W - iu - 1); u += step) {
       const size_t k = size_t(v) * size_t(W) + size_t(u);
       const float zk = key.depth[k];
       if (zk <= 0.f) continue;

@@ -299,6 +299,7 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
       dp.inlier_m = config_.depth_inlier_m;
       dp.iterations = config_.depth_iterations;
       dp.max_slope = config_.depth_max_slope;
+      dp.sample_step = config_.depth_sample_step;
       dp.resolution = t.resolution;
       dz = t.depth_shift.estimate(t.key, t.cur, m.du, m.dv, dp);
     }

@@ -59,6 +59,7 @@ std::string OdometryConfig::validate() const {
   if (!in(depth_gray_tolerance, 0, 1)) return "depth_gray_tolerance must be in [0, 1]";
   if (!in(depth_inlier_m, 1e-4, 10)) return "depth_inlier_m must be in [1e-4, 10]";
   if (!in(depth_max_slope, 0, 100)) return "depth_max_slope must be in [0, 100]";
+  if (depth_sample_step < 1 || depth_sample_step > 8) return "depth_sample_step must be in 1..8";
   if (depth_iterations < 1 || depth_iterations > 20) return "depth_iterations must be in 1..20";
   if (!in(min_valid_depth_fraction, 0, 1)) return "min_valid_depth_fraction must be in [0, 1]";
   if (max_degraded_frames < 1) return "max_degraded_frames must be at least 1";

@@ -11,6 +11,7 @@ struct DepthShiftParams {
   float gray_tolerance = 0.1f;  // |grey_key - grey_cur| must be below
   float inlier_m = 0.1f;        // |difference - dz| must be below
   int iterations = 3;
+  int sample_step = 1;  // use every n-th cell in u and v
   // Cells whose key surface is steeper than this (depth change per metre across the projection)
   // are skipped: for a surface seen edge-on the nearest point of a cell is where the field of
   // view cuts it, which moves with the camera and not with the scene. 0 disables the test.

@@ -59,6 +59,7 @@ struct OdometryConfig {
   float depth_gray_tolerance = 0.1f;  // Eq. 18 inlier test on intensity
   float depth_inlier_m = 0.1f;        // Eq. 18 inlier test on the depth difference
   int depth_iterations = 3;
+  int depth_sample_step = 2;          // Eq. 18 over every n-th cell in u and v
   float depth_max_slope = 1.5f;  // Eq. 18 skips cells of steeper surfaces (0: off)
 
   // Tracking state.
