@@ -220,17 +220,39 @@ void Odometry::estimateRotation(FrameState* s) {
   s->times.rotation_s = secondsSince(t0);
 }
 
+CloudView Odometry::projectionCloud(const FrameState& s) const {
+  return {s.points.data(), s.intensity.data(), s.points.size(), point_weight_.data()};
+}
+
+// Both the keyframe and the current frame go through the same projection, so that their images
+// differ only by the motion.
+void Odometry::projectForCorrelation(const CloudView& cloud, const Eigen::Matrix3f& R,
+                                     OrthoImage* image) const {
+  OrthoProjector::project(cloud, R, trans_->resolution, config_.projection_width,
+                          config_.projection_height, image);
+  OrthoProjector::fillGaps(image, config_.projection_fill_gap, config_.depth_discontinuity);
+  if (config_.projection_flatten_outline) OrthoProjector::flattenOutline(image);
+}
+
+const float* Odometry::depthChannel(const OrthoImage& image, float mean_depth,
+                                    std::vector<float>* channel) const {
+  channel->resize(image.depth.size());
+  for (size_t i = 0; i < image.depth.size(); ++i) {
+    const float d = image.depth[i];
+    (*channel)[i] = d > 0.f ? config_.kcc_depth_weight * (d - mean_depth) : 0.f;
+  }
+  return channel->data();
+}
+
 void Odometry::makeTranslationKeyframe(const FrameState& s, const Isometry3d& T_world_cam) {
   TranslationState& t = *trans_;
-  const CloudView cloud{s.points.data(), s.intensity.data(), s.points.size(), point_weight_.data()};
-  const int W = config_.projection_width, H = config_.projection_height;
-  const double r = t.projector.resolutionFor(cloud, Eigen::Matrix3f::Identity(), W, H,
-                                             config_.projection_inlier_fraction);
+  const CloudView cloud = projectionCloud(s);
+  const double r =
+      t.projector.resolutionFor(cloud, Eigen::Matrix3f::Identity(), config_.projection_width,
+                                config_.projection_height, config_.projection_inlier_fraction);
   if (r <= 0) return;
   t.resolution = r;
-  OrthoProjector::project(cloud, Eigen::Matrix3f::Identity(), r, W, H, &t.key);
-  OrthoProjector::fillGaps(&t.key, config_.projection_fill_gap, config_.depth_discontinuity);
-  if (config_.projection_flatten_outline) OrthoProjector::flattenOutline(&t.key);
+  projectForCorrelation(cloud, Eigen::Matrix3f::Identity(), &t.key);
   const float* channels[2] = {t.key.gray.data(), nullptr};
   if (config_.kcc_use_depth) {
     double sum = 0;
@@ -238,12 +260,7 @@ void Odometry::makeTranslationKeyframe(const FrameState& s, const Isometry3d& T_
     for (float d : t.key.depth)
       if (d > 0.f) sum += d, ++n;
     t.key_mean_depth = n ? float(sum / n) : 0.f;
-    t.key_depth_channel.resize(t.key.depth.size());
-    for (size_t i = 0; i < t.key.depth.size(); ++i) {
-      const float d = t.key.depth[i];
-      t.key_depth_channel[i] = d > 0.f ? config_.kcc_depth_weight * (d - t.key_mean_depth) : 0.f;
-    }
-    channels[1] = t.key_depth_channel.data();
+    channels[1] = depthChannel(t.key, t.key_mean_depth, &t.key_depth_channel);
   }
   t.kcc.train(channels);
   t.T_world_key = T_world_cam;
@@ -275,20 +292,10 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
     out.translation_keyframe = t.has_keyframe;
   } else {
     const Matrix3d R_key_cur = t.T_world_key.linear().transpose() * s->R_world_cam;
-    const CloudView cloud{s->points.data(), s->intensity.data(), s->points.size(),
-                          point_weight_.data()};
-    const int W = config_.projection_width, H = config_.projection_height;
-    OrthoProjector::project(cloud, R_key_cur.cast<float>(), t.resolution, W, H, &t.cur);
-    OrthoProjector::fillGaps(&t.cur, config_.projection_fill_gap, config_.depth_discontinuity);
-    if (config_.projection_flatten_outline) OrthoProjector::flattenOutline(&t.cur);
+    projectForCorrelation(projectionCloud(*s), R_key_cur.cast<float>(), &t.cur);
     const float* channels[2] = {t.cur.gray.data(), nullptr};
     if (config_.kcc_use_depth) {
-      t.cur_depth_channel.resize(t.cur.depth.size());
-      for (size_t i = 0; i < t.cur.depth.size(); ++i) {
-        const float d = t.cur.depth[i];
-        t.cur_depth_channel[i] = d > 0.f ? config_.kcc_depth_weight * (d - t.key_mean_depth) : 0.f;
-      }
-      channels[1] = t.cur_depth_channel.data();
+      channels[1] = depthChannel(t.cur, t.key_mean_depth, &t.cur_depth_channel);
     }
     const KccMatch m = t.kcc.match(channels, config_.subpixel_peak, config_.psr_exclusion);
     out.psr = m.psr;

@@ -94,6 +94,11 @@ class Odometry {
   struct RotationState;
   struct TranslationState;
   void makeTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_world_cam);
+  CloudView projectionCloud(const FrameState& state) const;
+  void projectForCorrelation(const CloudView& cloud, const Eigen::Matrix3f& R,
+                             OrthoImage* image) const;
+  const float* depthChannel(const OrthoImage& image, float mean_depth,
+                            std::vector<float>* channel) const;
 
   Camera camera_;
   OdometryConfig config_;
