@@ -1,0 +1,44 @@
+#pragma once
+// The nidevo.v1.OdometryService: admits streams up to the session limit, keeps the set of open
+// sessions for the idle reaper, and answers GetServerInfo.
+#include <condition_variable>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "nidevo/v1/odometry.grpc.pb.h"
+#include "server_config.hpp"
+#include "server_metrics.hpp"
+#include "session.hpp"
+#include "worker_pool.hpp"
+
+namespace nidevo::server {
+
+class OdometryService final : public v1::OdometryService::CallbackService {
+ public:
+  OdometryService(const ServerConfig& config, WorkerPool& pool, ServerMetrics& metrics);
+  ~OdometryService() override;  // stops the idle reaper
+
+  grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse>* Track(
+      grpc::CallbackServerContext* context) override;
+  grpc::ServerUnaryReactor* GetServerInfo(grpc::CallbackServerContext* context,
+                                          const v1::GetServerInfoRequest* request,
+                                          v1::ServerInfo* info) override;
+
+  int activeSessions();
+
+ private:
+  void reapIdleSessions();
+  void sessionDone(Session* session);
+
+  const ServerConfig& config_;
+  WorkerPool& pool_;
+  ServerMetrics& metrics_;
+  std::mutex mutex_;
+  std::condition_variable stop_cv_;
+  bool stopping_ = false;
+  std::set<Session*> sessions_;
+  std::thread reaper_;
+};
+
+}  // namespace nidevo::server

@@ -1,0 +1,63 @@
+#include "pose_response.hpp"
+
+#include <Eigen/Geometry>
+
+namespace nidevo::server {
+
+namespace {
+
+v1::FrameStatus toProto(TrackingState s) {
+  switch (s) {
+    case TrackingState::kOk:
+      return v1::FRAME_STATUS_OK;
+    case TrackingState::kDegraded:
+      return v1::FRAME_STATUS_DEGRADED;
+    case TrackingState::kLost:
+      return v1::FRAME_STATUS_LOST;
+  }
+  return v1::FRAME_STATUS_UNSPECIFIED;
+}
+
+v1::RotationSource toProto(RotationSource s) {
+  switch (s) {
+    case RotationSource::kInitial:
+      return v1::ROTATION_SOURCE_INITIAL;
+    case RotationSource::kPlanes:
+      return v1::ROTATION_SOURCE_PLANES;
+    case RotationSource::kOnePlane:
+      return v1::ROTATION_SOURCE_ONE_PLANE;
+    case RotationSource::kPrediction:
+      return v1::ROTATION_SOURCE_PREDICTION;
+  }
+  return v1::ROTATION_SOURCE_UNSPECIFIED;
+}
+
+}  // namespace
+
+void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose, v1::TrackResponse* out) {
+  out->set_sequence(frame.sequence());
+  out->set_timestamp(frame.timestamp());
+  out->set_status(toProto(pose.state));
+  out->set_reason(pose.reason);
+  const Eigen::Vector3d t = pose.T_world_cam.translation();
+  const Eigen::Quaterniond q(pose.T_world_cam.rotation());
+  auto* p = out->mutable_pose();
+  p->set_tx(t.x());
+  p->set_ty(t.y());
+  p->set_tz(t.z());
+  p->set_qw(q.w());
+  p->set_qx(q.x());
+  p->set_qy(q.y());
+  p->set_qz(q.z());
+  out->set_psr(pose.psr);
+  out->set_planes_used(pose.planes_used);
+  out->set_rotation_source(toProto(pose.rotation_source));
+  out->set_rotation_keyframe(pose.rotation_keyframe);
+  out->set_translation_keyframe(pose.translation_keyframe);
+  auto* times = out->mutable_timings();
+  times->set_normals(pose.times.normals_s);
+  times->set_rotation(pose.times.rotation_s);
+  times->set_translation(pose.times.translation_s);
+}
+
+}  // namespace nidevo::server

@@ -1,0 +1,33 @@
+#pragma once
+// Every setting of the server in one struct with defaults; main fills it from flags.
+#include <cstdint>
+#include <string>
+
+#include "nidevo/odometry_config.hpp"
+
+namespace nidevo::server {
+
+struct ServerConfig {
+  std::string address = "0.0.0.0:50051";
+  std::string metrics_address = "0.0.0.0:9464";  // empty: no metrics endpoint
+  int workers = 0;                               // 0: one per core
+  int max_sessions = 32;
+  int64_t max_message_bytes = 16 << 20;  // a raw 640x480 RGB8 + UINT16 frame is ~1.5 MB
+  int default_queue_capacity = 4;
+  int max_queue_capacity = 64;
+  double idle_timeout_s = 30;
+  double drain_timeout_s = 10;
+  bool reflection = false;
+  // HTTP/2 keepalive; the client library uses the same defaults.
+  double keepalive_time_s = 60;
+  double keepalive_timeout_s = 20;
+  double min_client_ping_interval_s = 10;  // pings more frequent than this: GOAWAY too_many_pings
+  double max_connection_age_s = 0;         // 0: unlimited (sessions are long-lived streams)
+  double max_connection_age_grace_s = 0;
+  OdometryConfig odometry;
+
+  // Empty when valid, else a message naming the bad setting.
+  std::string validate() const;
+};
+
+}  // namespace nidevo::server

@@ -1,0 +1,241 @@
+// nidevo-server: the NIDEVO odometry as a gRPC streaming service with Prometheus metrics.
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <pthread.h>
+#include <signal.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include "absl/flags/flag.h"
+#include "absl/synchronization/mutex.h"
+#include "cli.hpp"
+#include "nidevo/camera.hpp"
+#include "nidevo/odometry.hpp"
+#include "odometry_flags.hpp"
+#include "odometry_service.hpp"
+#include "prometheus/exposer.h"
+#include "server_config.hpp"
+#include "server_metrics.hpp"
+#include "worker_pool.hpp"
+
+namespace {
+const nidevo::server::ServerConfig kDefaults;
+}
+
+ABSL_FLAG(std::string, address, kDefaults.address,
+          "gRPC listen address host:port (port 0: any free port, see --port_file)");
+ABSL_FLAG(std::string, metrics_address, kDefaults.metrics_address,
+          "Prometheus /metrics listen address host:port; empty: no metrics endpoint");
+ABSL_FLAG(int, workers, kDefaults.workers,
+          "Odometry worker threads shared by all sessions; 0: "
+          "one per core");
+ABSL_FLAG(int, max_sessions, kDefaults.max_sessions,
+          "Concurrent sessions; the next stream fails with RESOURCE_EXHAUSTED");
+ABSL_FLAG(int64_t, max_message_bytes, kDefaults.max_message_bytes,
+          "Largest client message; larger fails the stream with RESOURCE_EXHAUSTED");
+ABSL_FLAG(int, default_queue_capacity, kDefaults.default_queue_capacity,
+          "Frames a session queues before its overload policy applies, unless it asks otherwise");
+ABSL_FLAG(int, max_queue_capacity, kDefaults.max_queue_capacity,
+          "Largest queue capacity a session may ask for");
+ABSL_FLAG(double, idle_timeout_s, kDefaults.idle_timeout_s,
+          "A session with no client message for this long ends with DEADLINE_EXCEEDED");
+ABSL_FLAG(double, drain_timeout_s, kDefaults.drain_timeout_s,
+          "On SIGTERM/SIGINT: open streams get this long to finish, then are cancelled");
+ABSL_FLAG(bool, reflection, kDefaults.reflection, "Serve gRPC reflection");
+ABSL_FLAG(double, keepalive_time_s, kDefaults.keepalive_time_s,
+          "Server HTTP/2 keepalive ping interval");
+ABSL_FLAG(double, keepalive_timeout_s, kDefaults.keepalive_timeout_s,
+          "Close a connection whose keepalive ping is unanswered this long");
+ABSL_FLAG(double, min_client_ping_interval_s, kDefaults.min_client_ping_interval_s,
+          "Shortest client keepalive interval accepted (faster: GOAWAY too_many_pings)");
+ABSL_FLAG(double, max_connection_age_s, kDefaults.max_connection_age_s,
+          "Close connections after this age so clients rebalance; 0: never (a session lives on "
+          "one connection, so keep it above the longest session plus the grace)");
+ABSL_FLAG(double, max_connection_age_grace_s, kDefaults.max_connection_age_grace_s,
+          "Time streams get to finish after max_connection_age; 0: unlimited");
+ABSL_FLAG(std::string, tls_cert_file, "", "PEM certificate chain; with --tls_key_file enables TLS");
+ABSL_FLAG(std::string, tls_key_file, "", "PEM private key of --tls_cert_file");
+ABSL_FLAG(std::string, port_file, "",
+          "Once serving, write 'grpc_port N' and 'metrics_port M' lines here (for scripts)");
+
+namespace {
+
+using nidevo::server::ServerConfig;
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+ServerConfig configFromFlags() {
+  ServerConfig c;
+  c.address = absl::GetFlag(FLAGS_address);
+  c.metrics_address = absl::GetFlag(FLAGS_metrics_address);
+  c.workers = absl::GetFlag(FLAGS_workers);
+  if (c.workers == 0) c.workers = int(std::max(1u, std::thread::hardware_concurrency()));
+  c.max_sessions = absl::GetFlag(FLAGS_max_sessions);
+  c.max_message_bytes = absl::GetFlag(FLAGS_max_message_bytes);
+  c.default_queue_capacity = absl::GetFlag(FLAGS_default_queue_capacity);
+  c.max_queue_capacity = absl::GetFlag(FLAGS_max_queue_capacity);
+  c.idle_timeout_s = absl::GetFlag(FLAGS_idle_timeout_s);
+  c.drain_timeout_s = absl::GetFlag(FLAGS_drain_timeout_s);
+  c.reflection = absl::GetFlag(FLAGS_reflection);
+  c.keepalive_time_s = absl::GetFlag(FLAGS_keepalive_time_s);
+  c.keepalive_timeout_s = absl::GetFlag(FLAGS_keepalive_timeout_s);
+  c.min_client_ping_interval_s = absl::GetFlag(FLAGS_min_client_ping_interval_s);
+  c.max_connection_age_s = absl::GetFlag(FLAGS_max_connection_age_s);
+  c.max_connection_age_grace_s = absl::GetFlag(FLAGS_max_connection_age_grace_s);
+  c.odometry = nidevo::cli::odometryConfigFromFlags();
+  return c;
+}
+
+int ms(double seconds) { return int(std::min(seconds * 1000.0, 2.0e9)); }
+
+std::shared_ptr<grpc::ServerCredentials> credentials() {
+  const std::string cert = absl::GetFlag(FLAGS_tls_cert_file);
+  const std::string key = absl::GetFlag(FLAGS_tls_key_file);
+  if (cert.empty() != key.empty())
+    throw std::invalid_argument("--tls_cert_file and --tls_key_file go together");
+  if (cert.empty()) return grpc::InsecureServerCredentials();
+  grpc::SslServerCredentialsOptions options;
+  options.pem_key_cert_pairs.push_back({readFile(key), readFile(cert)});
+  return grpc::SslServerCredentials(options);
+}
+
+void writePortFile(const std::string& path, int grpc_port, int metrics_port) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << "grpc_port " << grpc_port << "\nmetrics_port " << metrics_port << "\n";
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw std::runtime_error("cannot rename " + tmp + " to " + path);
+}
+
+// Plans FFTW for the projection size and touches every code path once, so the first session
+// does not pay for it and health turns SERVING only when the server is really ready.
+void warmUp(const nidevo::OdometryConfig& config) {
+  nidevo::Camera camera = *nidevo::cameraPreset("icl");
+  nidevo::Odometry odometry(camera, config);
+  nidevo::RgbdFrame frame;
+  frame.gray.resize(camera.width, camera.height, 128);
+  frame.depth.resize(camera.width, camera.height, 2.0f);
+  for (int i = 0; i < 2; ++i) {
+    frame.timestamp = i;
+    odometry.track(frame);
+  }
+}
+
+int run(const ServerConfig& config) {
+  nidevo::server::ServerMetrics metrics(NIDEVO_VERSION);
+  std::unique_ptr<prometheus::Exposer> exposer;  // after the registry (see build notes)
+  int metrics_port = 0;
+  if (!config.metrics_address.empty()) {
+    try {
+      exposer = std::make_unique<prometheus::Exposer>(config.metrics_address);
+    } catch (const std::exception& e) {
+      std::cerr << "nidevo-server: cannot serve metrics on " << config.metrics_address << ": "
+                << e.what() << "\n";
+      return 1;
+    }
+    exposer->RegisterCollectable(metrics.registry());
+    metrics_port = exposer->GetListeningPorts().at(0);
+  }
+  warmUp(config.odometry);
+
+  auto pool = std::make_unique<nidevo::server::WorkerPool>(config.workers);
+  auto service = std::make_unique<nidevo::server::OdometryService>(config, *pool, metrics);
+  grpc::EnableDefaultHealthCheckService(true);
+  if (config.reflection) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  int grpc_port = 0;
+  builder.AddListeningPort(config.address, credentials(), &grpc_port);
+  builder.SetMaxReceiveMessageSize(int(std::min<int64_t>(config.max_message_bytes, INT32_MAX)));
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, ms(config.keepalive_time_s));
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, ms(config.keepalive_timeout_s));
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
+                             ms(config.min_client_ping_interval_s));
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  if (config.max_connection_age_s > 0) {
+    builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_MS, ms(config.max_connection_age_s));
+    if (config.max_connection_age_grace_s > 0)
+      builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_GRACE_MS,
+                                 ms(config.max_connection_age_grace_s));
+  }
+  builder.RegisterService(service.get());
+  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  if (!server || grpc_port == 0) {
+    std::cerr << "nidevo-server: cannot listen on " << config.address << "\n";
+    return 1;
+  }
+  auto* health = server->GetHealthCheckService();
+  health->SetServingStatus("", true);
+  health->SetServingStatus("nidevo.v1.OdometryService", true);
+  const std::string port_file = absl::GetFlag(FLAGS_port_file);
+  if (!port_file.empty()) writePortFile(port_file, grpc_port, metrics_port);
+  std::cerr << "nidevo-server " << NIDEVO_VERSION << ": serving nidevo.v1 on port " << grpc_port
+            << (metrics_port ? ", metrics on port " + std::to_string(metrics_port) : "") << ", "
+            << config.workers << " workers, at most " << config.max_sessions << " sessions"
+            << std::endl;
+
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  int signal_number = 0;
+  sigwait(&signals, &signal_number);
+
+  std::cerr << "nidevo-server: " << (signal_number == SIGTERM ? "SIGTERM" : "SIGINT")
+            << ", draining " << service->activeSessions() << " sessions for up to "
+            << config.drain_timeout_s << " s" << std::endl;
+  health->Shutdown();  // NOT_SERVING from now on
+  const auto drain_start = std::chrono::steady_clock::now();
+  server->Shutdown(std::chrono::system_clock::now() +
+                   std::chrono::milliseconds(ms(config.drain_timeout_s)));
+  server->Wait();
+  pool.reset();  // finishes the stage tasks of cancelled sessions
+  service.reset();
+  std::cerr << "nidevo-server: stopped after "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - drain_start).count()
+            << " s of draining" << std::endl;
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Every thread inherits this mask, so only sigwait in run() sees the signals.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  // Debian's Abseil has deadlock detection on; gRPC's own mutexes pay for it on every lock.
+  absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
+
+  const auto args = nidevo::cli::init(
+      argc, argv,
+      "nidevo-server [flags]\n\nServes the NIDEVO RGB-D odometry over gRPC (nidevo.v1, one "
+      "stream per session) with Prometheus metrics.\nEvery flag can also be set as an "
+      "environment variable NIDEVO_<FLAG> (e.g. NIDEVO_MAX_SESSIONS=8); flags win.");
+  if (!args.empty()) return nidevo::cli::usageError("unexpected argument " + args[0]);
+  try {
+    const ServerConfig config = configFromFlags();
+    if (std::string e = config.validate(); !e.empty()) return nidevo::cli::usageError(e);
+    return run(config);
+  } catch (const std::exception& e) {
+    std::cerr << "nidevo-server: " << e.what() << "\n";
+    return 1;
+  }
+}

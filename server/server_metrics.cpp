@@ -1,0 +1,108 @@
+#include "server_metrics.hpp"
+
+#include <grpcpp/support/status_code_enum.h>
+
+namespace nidevo::server {
+
+namespace {
+
+// Latency buckets from 0.5 ms to 1 s: a frame takes a few ms, a queued one tens of ms.
+prometheus::Histogram::BucketBoundaries latencyBuckets() {
+  return {0.0005, 0.001, 0.002, 0.003, 0.004, 0.005, 0.0075, 0.01, 0.015,
+          0.02,   0.033, 0.05,  0.075, 0.1,   0.25,  0.5,    1.0};
+}
+
+const char* codeName(int code) {
+  static const char* const kNames[] = {"OK",
+                                       "CANCELLED",
+                                       "UNKNOWN",
+                                       "INVALID_ARGUMENT",
+                                       "DEADLINE_EXCEEDED",
+                                       "NOT_FOUND",
+                                       "ALREADY_EXISTS",
+                                       "PERMISSION_DENIED",
+                                       "RESOURCE_EXHAUSTED",
+                                       "FAILED_PRECONDITION",
+                                       "ABORTED",
+                                       "OUT_OF_RANGE",
+                                       "UNIMPLEMENTED",
+                                       "INTERNAL",
+                                       "UNAVAILABLE",
+                                       "DATA_LOSS",
+                                       "UNAUTHENTICATED"};
+  return code >= 0 && code < 17 ? kNames[code] : "UNKNOWN";
+}
+
+}  // namespace
+
+ServerMetrics::ServerMetrics(const std::string& version)
+    : registry_(std::make_shared<prometheus::Registry>()) {
+  using prometheus::BuildCounter;
+  using prometheus::BuildGauge;
+  using prometheus::BuildHistogram;
+  auto& frames = BuildCounter()
+                     .Name("nidevo_frames_total")
+                     .Help("Frames answered, by outcome (ok, degraded, lost, dropped, error)")
+                     .Register(*registry_);
+  const char* outcomes[] = {"ok", "degraded", "lost", "dropped", "error"};
+  for (size_t i = 0; i < frames_.size(); ++i) frames_[i] = &frames.Add({{"outcome", outcomes[i]}});
+
+  frame_latency_ = &BuildHistogram()
+                        .Name("nidevo_frame_latency_seconds")
+                        .Help(
+                            "Server-side time from a frame's arrival to its answer, processed "
+                            "frames only")
+                        .Register(*registry_)
+                        .Add({}, latencyBuckets());
+  auto& stages = BuildHistogram()
+                     .Name("nidevo_stage_duration_seconds")
+                     .Help(
+                         "Time a processed frame spent in each stage (decode, queue, normals, "
+                         "rotation, translation)")
+                     .Register(*registry_);
+  const char* stage_names[] = {"decode", "queue", "normals", "rotation", "translation"};
+  for (size_t i = 0; i < stages_.size(); ++i)
+    stages_[i] = &stages.Add({{"stage", stage_names[i]}}, latencyBuckets());
+  psr_ = &BuildHistogram()
+              .Name("nidevo_frame_psr")
+              .Help("Peak-to-sidelobe ratio of the translation match of tracked frames")
+              .Register(*registry_)
+              .Add({}, prometheus::Histogram::BucketBoundaries{5, 8, 10, 15, 20, 30, 50, 75, 100,
+                                                               150, 200, 300});
+  auto& keyframes = BuildCounter()
+                        .Name("nidevo_keyframes_total")
+                        .Help("Keyframes made, by kind (rotation, translation)")
+                        .Register(*registry_);
+  rotation_keyframes_ = &keyframes.Add({{"kind", "rotation"}});
+  translation_keyframes_ = &keyframes.Add({{"kind", "translation"}});
+  sessions_family_ = &BuildCounter()
+                          .Name("nidevo_sessions_total")
+                          .Help("Sessions ended, by final gRPC status code")
+                          .Register(*registry_);
+  // Every code up front (17, bounded): rates start from zero and recording never adds a child.
+  for (size_t code = 0; code < sessions_by_code_.size(); ++code)
+    sessions_by_code_[code] = &sessions_family_->Add({{"code", codeName(int(code))}});
+  active_sessions_ = &BuildGauge()
+                          .Name("nidevo_active_sessions")
+                          .Help("Sessions (streams) currently open")
+                          .Register(*registry_)
+                          .Add({});
+  queued_frames_ = &BuildGauge()
+                        .Name("nidevo_queued_frames")
+                        .Help("Frames received and waiting for a worker, over all sessions")
+                        .Register(*registry_)
+                        .Add({});
+  BuildGauge()
+      .Name("nidevo_build_info")
+      .Help("Always 1; the labels say which build is running")
+      .Register(*registry_)
+      .Add({{"version", version}, {"api", "nidevo.v1"}})
+      .Set(1);
+}
+
+void ServerMetrics::sessionEnded(int code) {
+  if (code < 0 || code >= int(sessions_by_code_.size())) code = grpc::StatusCode::UNKNOWN;
+  sessions_by_code_[size_t(code)]->Increment();
+}
+
+}  // namespace nidevo::server
