@@ -22,6 +22,11 @@ OdometryService::~OdometryService() {
 grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse>* OdometryService::Track(
     grpc::CallbackServerContext* /*context*/) {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (draining_) {
+    metrics_.sessionEnded(grpc::StatusCode::UNAVAILABLE);
+    return new RejectedStream(grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                                           "server is shutting down; use another replica"));
+  }
   if (int(sessions_.size()) >= config_.max_sessions) {
     metrics_.sessionEnded(grpc::StatusCode::RESOURCE_EXHAUSTED);
     return new RejectedStream(
@@ -43,6 +48,11 @@ grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse>* OdometryService::T
 void OdometryService::sessionDone(Session* session) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (sessions_.erase(session)) metrics_.activeSessions(-1);
+}
+
+void OdometryService::beginDrain() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  draining_ = true;
 }
 
 int OdometryService::activeSessions() {

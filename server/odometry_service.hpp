@@ -26,6 +26,8 @@ class OdometryService final : public v1::OdometryService::CallbackService {
                                           v1::ServerInfo* info) override;
 
   int activeSessions();
+  // New streams fail with UNAVAILABLE from now on; open ones go on.
+  void beginDrain();
 
  private:
   void reapIdleSessions();
@@ -37,6 +39,7 @@ class OdometryService final : public v1::OdometryService::CallbackService {
   std::mutex mutex_;
   std::condition_variable stop_cv_;
   bool stopping_ = false;
+  bool draining_ = false;
   std::set<Session*> sessions_;
   std::thread reaper_;
 };

@@ -199,11 +199,20 @@ int run(const ServerConfig& config) {
   std::cerr << "nidevo-server: " << (signal_number == SIGTERM ? "SIGTERM" : "SIGINT")
             << ", draining " << service->activeSessions() << " sessions for up to "
             << config.drain_timeout_s << " s" << std::endl;
-  health->Shutdown();  // NOT_SERVING from now on
+  // Health and server info keep answering while open streams finish, so probes and load
+  // balancers see NOT_SERVING rather than a closed port; new streams get UNAVAILABLE.
+  health->Shutdown();
+  service->beginDrain();
   const auto drain_start = std::chrono::steady_clock::now();
-  server->Shutdown(std::chrono::system_clock::now() +
-                   std::chrono::milliseconds(ms(config.drain_timeout_s)));
+  const auto drain_end = drain_start + std::chrono::milliseconds(ms(config.drain_timeout_s));
+  while (service->activeSessions() > 0 && std::chrono::steady_clock::now() < drain_end)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const int cancelled = service->activeSessions();
+  server->Shutdown(std::chrono::system_clock::now());  // cancels what is still open
   server->Wait();
+  if (cancelled > 0)
+    std::cerr << "nidevo-server: drain deadline passed, cancelled " << cancelled << " sessions"
+              << std::endl;
   pool.reset();  // finishes the stage tasks of cancelled sessions
   service.reset();
   std::cerr << "nidevo-server: stopped after "

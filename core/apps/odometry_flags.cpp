@@ -21,6 +21,8 @@ ABSL_FLAG(int, projection_width, kDefaults.projection_width, "Orthographic proje
 ABSL_FLAG(int, projection_height, kDefaults.projection_height, "Orthographic projection height");
 ABSL_FLAG(int, projection_stride, kDefaults.projection_stride,
           "Project every n-th input pixel in u and v");
+ABSL_FLAG(bool, fft_measure, kDefaults.fft_measure,
+          "Time FFTW plans (FFTW_MEASURE): poses then differ in the last bits between runs");
 ABSL_FLAG(bool, kcc_depth, kDefaults.kcc_use_depth, "Correlate depth as a second KCC channel");
 ABSL_FLAG(double, kcc_label_sigma, kDefaults.kcc_label_sigma,
           "KCC label: 0 = delta (authors), else a Gaussian of this many pixels");
@@ -50,6 +52,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.projection_height = absl::GetFlag(FLAGS_projection_height);
   c.projection_stride = absl::GetFlag(FLAGS_projection_stride);
   c.kcc_use_depth = absl::GetFlag(FLAGS_kcc_depth);
+  c.fft_measure = absl::GetFlag(FLAGS_fft_measure);
   c.kcc_label_sigma = float(absl::GetFlag(FLAGS_kcc_label_sigma));
   c.projection_flatten_outline = absl::GetFlag(FLAGS_flatten_outline);
   c.projection_border_fade = float(absl::GetFlag(FLAGS_border_fade));

@@ -31,7 +31,7 @@ double energy(const float* x, size_t n) {
 }  // namespace
 
 KernelCrossCorrelator::KernelCrossCorrelator(int width, int height, int channels, double sigma,
-                                             double lambda, double label_sigma)
+                                             double lambda, double label_sigma, bool measure_plans)
     : width_(width), height_(height), channels_(channels), sigma_(sigma), lambda_(lambda) {
   if (width < 4 || height < 4 || channels < 1) {
     throw std::invalid_argument("KernelCrossCorrelator: bad size or channel count");
@@ -47,11 +47,12 @@ KernelCrossCorrelator::KernelCrossCorrelator(int width, int height, int channels
     cur_hat_.push_back(allocComplex(n_complex_));
   }
   std::lock_guard<std::mutex> lock(plannerMutex());
-  // FFTW_MEASURE once per size; later plans of the same size reuse the process's wisdom.
+  // With FFTW_MEASURE, later plans of the same size reuse the process's wisdom.
+  const unsigned flags = measure_plans ? FFTW_MEASURE : FFTW_ESTIMATE;
   plan_forward_ = fftwf_plan_dft_r2c_2d(height, width, real_,
-                                        reinterpret_cast<fftwf_complex*>(spectrum_), FFTW_MEASURE);
+                                        reinterpret_cast<fftwf_complex*>(spectrum_), flags);
   plan_inverse_ = fftwf_plan_dft_c2r_2d(height, width, reinterpret_cast<fftwf_complex*>(spectrum_),
-                                        real_, FFTW_MEASURE);
+                                        real_, flags);
   if (!plan_forward_ || !plan_inverse_) throw std::runtime_error("FFTW planning failed");
   // The label y: a delta at the origin (sigma 0, the authors'), or a Gaussian of label_sigma px
   // centred on the origin with circular wrap, which makes the peak smooth enough to interpolate.

@@ -66,7 +66,7 @@ struct Odometry::RotationState {
 struct Odometry::TranslationState {
   TranslationState(const OdometryConfig& c)
       : kcc(c.projection_width, c.projection_height, c.kcc_use_depth ? 2 : 1, c.kcc_sigma,
-            c.kcc_lambda, c.kcc_label_sigma) {}
+            c.kcc_lambda, c.kcc_label_sigma, c.fft_measure) {}
   bool has_keyframe = false;
   OrthoImage key, cur;
   std::vector<float> key_depth_channel, cur_depth_channel;

@@ -17,8 +17,10 @@ struct KccMatch {
 class KernelCrossCorrelator {
  public:
   // label_sigma 0: delta label (the authors'); > 0: Gaussian label of that many pixels.
+  // measure_plans: FFTW_MEASURE (timed, may pick a different algorithm in each process, so the
+  // last bits of a result vary between runs) instead of FFTW_ESTIMATE (reproducible).
   KernelCrossCorrelator(int width, int height, int channels, double sigma, double lambda,
-                        double label_sigma = 0.0);
+                        double label_sigma = 0.0, bool measure_plans = false);
   ~KernelCrossCorrelator();
   KernelCrossCorrelator(const KernelCrossCorrelator&) = delete;
   KernelCrossCorrelator& operator=(const KernelCrossCorrelator&) = delete;

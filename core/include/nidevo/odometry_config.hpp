@@ -53,13 +53,16 @@ struct OdometryConfig {
   bool kcc_use_depth = false;     // correlate depth as a second channel
   float kcc_depth_weight = 0.5f;  // per metre of depth difference
   bool subpixel_peak = true;
+  // FFTW_MEASURE planning: maybe a little faster, but the plan (and so the last bits of every
+  // pose) can differ between processes. Off: the same frames give the same poses everywhere.
+  bool fft_measure = false;
   int psr_exclusion = 5;              // side lobe excludes (2n+1)^2 around the peak
   float psr_bound = 50.0f;            // translation keyframe renewed at or below (authors)
   float psr_min = 8.0f;               // below: the KCC match is not trusted
   float depth_gray_tolerance = 0.1f;  // Eq. 18 inlier test on intensity
   float depth_inlier_m = 0.1f;        // Eq. 18 inlier test on the depth difference
   int depth_iterations = 3;
-  int depth_sample_step = 2;          // Eq. 18 over every n-th cell in u and v
+  int depth_sample_step = 2;     // Eq. 18 over every n-th cell in u and v
   float depth_max_slope = 1.5f;  // Eq. 18 skips cells of steeper surfaces (0: off)
 
   // Tracking state.

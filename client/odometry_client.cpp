@@ -1,0 +1,158 @@
+#include "odometry_client.hpp"
+
+#include <chrono>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "grpc/health/v1/health.grpc.pb.h"
+
+namespace nidevo::client {
+
+namespace {
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read CA file " + path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::chrono::system_clock::time_point after(double seconds) {
+  return std::chrono::system_clock::now() + std::chrono::microseconds(int64_t(seconds * 1e6));
+}
+
+}  // namespace
+
+const char* statusCodeName(grpc::StatusCode code) {
+  static const char* const kNames[] = {"OK",
+                                       "CANCELLED",
+                                       "UNKNOWN",
+                                       "INVALID_ARGUMENT",
+                                       "DEADLINE_EXCEEDED",
+                                       "NOT_FOUND",
+                                       "ALREADY_EXISTS",
+                                       "PERMISSION_DENIED",
+                                       "RESOURCE_EXHAUSTED",
+                                       "FAILED_PRECONDITION",
+                                       "ABORTED",
+                                       "OUT_OF_RANGE",
+                                       "UNIMPLEMENTED",
+                                       "INTERNAL",
+                                       "UNAVAILABLE",
+                                       "DATA_LOSS",
+                                       "UNAUTHENTICATED"};
+  const int c = int(code);
+  return c >= 0 && c < 17 ? kNames[c] : "UNKNOWN";
+}
+
+Client::Client(const ChannelOptions& options) : options_(options) {
+  grpc::ChannelArguments args;
+  args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, int(options.keepalive_time_s * 1000));
+  args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, int(options.keepalive_timeout_s * 1000));
+  args.SetMaxReceiveMessageSize(-1);
+  args.SetMaxSendMessageSize(-1);  // the server enforces its own limit and says so
+  if (!options.load_balancing.empty()) args.SetLoadBalancingPolicyName(options.load_balancing);
+  std::shared_ptr<grpc::ChannelCredentials> creds;
+  if (options.tls) {
+    grpc::SslCredentialsOptions ssl;
+    if (!options.ca_file.empty()) ssl.pem_root_certs = readFile(options.ca_file);
+    creds = grpc::SslCredentials(ssl);
+  } else {
+    creds = grpc::InsecureChannelCredentials();
+  }
+  channel_ = grpc::CreateCustomChannel(options.target, creds, args);
+  stub_ = v1::OdometryService::NewStub(channel_);
+}
+
+void Client::setDeadline(grpc::ClientContext* context) const {
+  context->set_deadline(after(options_.connect_timeout_s));
+}
+
+grpc::Status Client::serverInfo(v1::ServerInfo* info) {
+  grpc::ClientContext context;
+  setDeadline(&context);
+  return stub_->GetServerInfo(&context, v1::GetServerInfoRequest(), info);
+}
+
+grpc::Status Client::health(const std::string& service, bool* serving) {
+  auto stub = grpc::health::v1::Health::NewStub(channel_);
+  grpc::ClientContext context;
+  setDeadline(&context);
+  grpc::health::v1::HealthCheckRequest request;
+  request.set_service(service);
+  grpc::health::v1::HealthCheckResponse response;
+  grpc::Status status = stub->Check(&context, request, &response);
+  *serving = status.ok() && response.status() == grpc::health::v1::HealthCheckResponse::SERVING;
+  return status;
+}
+
+std::unique_ptr<Session> Client::open(const SessionOptions& options, ResponseCallback callback) {
+  if (!channel_->WaitForConnected(after(options_.connect_timeout_s)))
+    throw std::runtime_error("cannot connect to " + options_.target + " within " +
+                             std::to_string(options_.connect_timeout_s) + " s");
+  std::unique_ptr<Session> session(new Session());
+  if (options.deadline_s > 0) session->context_.set_deadline(after(options.deadline_s));
+  session->stream_ = stub_->Track(&session->context_);
+  auto* config = session->request_.mutable_config();
+  auto* camera = config->mutable_camera();
+  camera->set_fx(options.camera.fx);
+  camera->set_fy(options.camera.fy);
+  camera->set_cx(options.camera.cx);
+  camera->set_cy(options.camera.cy);
+  camera->set_width(uint32_t(options.camera.width));
+  camera->set_height(uint32_t(options.camera.height));
+  config->set_color_encoding(options.color_encoding);
+  config->set_depth_encoding(options.depth_encoding);
+  config->set_depth_scale(options.camera.depth_scale);
+  config->set_overload_policy(options.overload_policy);
+  config->set_queue_capacity(options.queue_capacity);
+  config->set_client_name(options.client_name);
+  session->stream_->Write(session->request_);  // a failure shows in finish()
+  if (callback) {
+    Session* s = session.get();
+    session->reader_ = std::thread([s, callback] {
+      v1::TrackResponse response;
+      while (s->stream_->Read(&response)) callback(response);
+    });
+  }
+  return session;
+}
+
+bool Session::send(const v1::Frame& frame) {
+  if (writes_done_) return false;
+  *request_.mutable_frame() = frame;
+  return stream_->Write(request_);
+}
+
+bool Session::receive(v1::TrackResponse* response) { return stream_->Read(response); }
+
+grpc::Status Session::finish() {
+  if (finished_) return status_;
+  if (!writes_done_) {
+    writes_done_ = true;
+    stream_->WritesDone();
+  }
+  if (reader_.joinable()) {
+    reader_.join();
+  } else {
+    v1::TrackResponse ignored;  // answers the caller did not read
+    while (stream_->Read(&ignored)) {
+    }
+  }
+  status_ = stream_->Finish();
+  finished_ = true;
+  return status_;
+}
+
+void Session::cancel() {
+  context_.TryCancel();
+  finish();
+}
+
+Session::~Session() {
+  if (!finished_) cancel();
+}
+
+}  // namespace nidevo::client

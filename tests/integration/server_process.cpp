@@ -1,0 +1,107 @@
+#include "server_process.hpp"
+
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <thread>
+
+namespace nidevo::test {
+
+ServerProcess::ServerProcess(const std::vector<std::string>& extra_flags) {
+  char templ[] = "/tmp/nidevo_server_XXXXXX";
+  if (!mkdtemp(templ)) throw std::runtime_error("mkdtemp failed");
+  dir_ = templ;
+  const std::string port_file = dir_ + "/ports";
+  std::vector<std::string> args = {NIDEVO_SERVER_BINARY, "--address=127.0.0.1:0",
+                                   "--metrics_address=127.0.0.1:0", "--port_file=" + port_file,
+                                   "--workers=2"};
+  args.insert(args.end(), extra_flags.begin(), extra_flags.end());
+  pid_ = fork();
+  if (pid_ < 0) throw std::runtime_error("fork failed");
+  if (pid_ == 0) {
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string log = dir_ + "/server.log";
+    freopen(log.c_str(), "w", stderr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    std::ifstream in(port_file);
+    std::string key;
+    int value = 0;
+    while (in >> key >> value) {
+      if (key == "grpc_port") grpc_port_ = value;
+      if (key == "metrics_port") metrics_port_ = value;
+    }
+    if (grpc_port_ > 0) return;
+    if (!running()) throw std::runtime_error("nidevo-server exited at start; see " + dir_);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  throw std::runtime_error("nidevo-server did not start within 60 s");
+}
+
+ServerProcess::~ServerProcess() {
+  if (pid_ > 0 && running()) {
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+  }
+  if (std::getenv("NIDEVO_TEST_KEEP_LOGS")) {
+    std::fprintf(stderr, "server log kept in %s\n", dir_.c_str());
+    return;
+  }
+  std::error_code ignored;
+  std::filesystem::remove_all(dir_, ignored);
+}
+
+void ServerProcess::signal(int signal_number) const {
+  if (pid_ > 0) kill(pid_, signal_number);
+}
+
+bool ServerProcess::running() {
+  if (pid_ <= 0) return false;
+  int status = 0;
+  const pid_t r = waitpid(pid_, &status, WNOHANG);
+  if (r == pid_) {
+    exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    pid_ = -pid_;  // reaped
+    return false;
+  }
+  return r == 0;
+}
+
+int ServerProcess::waitExit(double timeout_s) {
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(int64_t(timeout_s * 1000));
+  while (running()) {
+    if (std::chrono::steady_clock::now() > deadline) return -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return exit_status_;
+}
+
+int freeTcpPort() {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  addr.sin_port = 0;
+  bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr));
+  socklen_t len = sizeof(addr);
+  getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+  close(fd);
+  return ntohs(addr.sin_port);
+}
+
+}  // namespace nidevo::test

@@ -1,0 +1,38 @@
+#pragma once
+// Runs the real nidevo-server binary on free loopback ports for a test.
+#include <sys/types.h>
+
+#include <string>
+#include <vector>
+
+namespace nidevo::test {
+
+class ServerProcess {
+ public:
+  // Starts the server with --address/--metrics_address on 127.0.0.1:0 plus `extra_flags`, and
+  // waits until it has written its port file. Throws std::runtime_error on failure.
+  explicit ServerProcess(const std::vector<std::string>& extra_flags = {});
+  ~ServerProcess();  // SIGKILL if still running
+
+  std::string target() const { return "127.0.0.1:" + std::to_string(grpc_port_); }
+  std::string metricsUrl() const {
+    return "http://127.0.0.1:" + std::to_string(metrics_port_) + "/metrics";
+  }
+  int metricsPort() const { return metrics_port_; }
+  void signal(int signal_number) const;
+  // Exit status, or -1 if still running after timeout_s (or killed by a signal).
+  int waitExit(double timeout_s);
+  bool running();
+
+ private:
+  pid_t pid_ = -1;  // negated once reaped
+  int exit_status_ = -1;
+  int grpc_port_ = 0;
+  int metrics_port_ = 0;
+  std::string dir_;
+};
+
+// A TCP port that was free a moment ago (for programs that cannot take port 0).
+int freeTcpPort();
+
+}  // namespace nidevo::test

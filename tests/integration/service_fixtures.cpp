@@ -1,0 +1,59 @@
+#include "service_fixtures.hpp"
+
+#include "nidevo/pipeline.hpp"
+
+namespace nidevo::test {
+
+TestSequence renderOffice(int frames, uint64_t seed, const std::string& texture) {
+  synth::SequenceConfig config;
+  config.scene = "office";
+  config.texture = synth::parseTextureRichness(texture);
+  config.frames = frames;
+  config.seed = seed;
+  config.camera = cameraPreset("icl")->subsampled(2);
+  synth::SyntheticSequence sequence(config);
+  TestSequence out;
+  out.camera = config.camera;
+  for (int i = 0; i < frames; ++i) out.frames.push_back(sequence.renderFrame(i));
+  out.ground_truth = sequence.groundTruthTrajectory();
+  return out;
+}
+
+std::vector<PoseEstimate> offlinePoses(const TestSequence& sequence) {
+  Odometry odometry(sequence.camera, OdometryConfig{});
+  return runSequential(odometry, sequence.frames.size(),
+                       [&](size_t i) -> const RgbdFrame& { return sequence.frames[i]; });
+}
+
+client::SessionOptions sessionFor(const Camera& camera, const client::FrameEncoding& encoding) {
+  client::SessionOptions options;
+  options.camera = camera;
+  options.color_encoding = encoding.color;
+  options.depth_encoding = encoding.depth;
+  options.client_name = "integration-test";
+  return options;
+}
+
+StreamResult streamSequence(client::Client& client, const TestSequence& sequence,
+                            const client::FrameEncoding& encoding) {
+  StreamResult result;
+  auto session = client.open(sessionFor(sequence.camera, encoding),
+                             [&](const v1::TrackResponse& r) { result.responses.push_back(r); });
+  v1::Frame frame;
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    client::encodeFrame(sequence.frames[i], sequence.camera.depth_scale, encoding, &frame);
+    frame.set_sequence(i);
+    if (!session->send(frame)) break;
+  }
+  result.status = session->finish();
+  return result;
+}
+
+Eigen::Isometry3d toIsometry(const v1::Pose& pose) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(pose.qw(), pose.qx(), pose.qy(), pose.qz()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(pose.tx(), pose.ty(), pose.tz());
+  return T;
+}
+
+}  // namespace nidevo::test
