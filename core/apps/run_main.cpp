@@ -11,17 +11,8 @@
 #include "nidevo/odometry.hpp"
 #include "nidevo/pipeline.hpp"
 #include "odometry_flags.hpp"
+#include "sequence_flags.hpp"
 
-ABSL_FLAG(std::string, dataset, "", "TUM/ICL-NUIM sequence folder (default: a synthetic scene)");
-ABSL_FLAG(std::string, scene, "office",
-          "Synthetic scene when no --dataset: office, corridor, corner, gap");
-ABSL_FLAG(std::string, texture, "rich", "Synthetic texture: rich, low, none");
-ABSL_FLAG(std::string, noise, "none", "Synthetic sensor noise: none, icl");
-ABSL_FLAG(int, frames, 300, "Synthetic sequence length");
-ABSL_FLAG(uint64_t, seed, 1, "Synthetic sequence seed");
-ABSL_FLAG(std::string, camera, "icl",
-          "Camera preset for a synthetic scene, or for a folder without camera.txt");
-ABSL_FLAG(int, max_frames, 0, "Use at most this many frames (0: all)");
 ABSL_FLAG(int, threads, 1, "1: all stages on one thread; 3: the three-stage pipeline");
 ABSL_FLAG(std::string, out, "", "Write the estimated trajectory (TUM format) here");
 ABSL_FLAG(std::string, plot, "", "Write a PNG plot against ground truth here");
@@ -48,15 +39,7 @@ int main(int argc, char** argv) {
   if (threads != 1 && threads != 3) return nidevo::cli::usageError("--threads must be 1 or 3");
   try {
     const nidevo::OdometryConfig config = nidevo::cli::odometryConfigFromFlags();
-    nidevo::cli::SequenceSource src;
-    src.dataset = absl::GetFlag(FLAGS_dataset);
-    src.scene = absl::GetFlag(FLAGS_scene);
-    src.texture = absl::GetFlag(FLAGS_texture);
-    src.noise = absl::GetFlag(FLAGS_noise);
-    src.frames = absl::GetFlag(FLAGS_frames);
-    src.seed = absl::GetFlag(FLAGS_seed);
-    src.camera = absl::GetFlag(FLAGS_camera);
-    src.max_frames = size_t(std::max(0, absl::GetFlag(FLAGS_max_frames)));
+    const nidevo::cli::SequenceSource src = nidevo::cli::sequenceSourceFromFlags();
     const auto load_start = std::chrono::steady_clock::now();
     const auto seq = nidevo::cli::loadSequence(src);
     const double load_s =

@@ -1,0 +1,59 @@
+#include "client_flags.hpp"
+
+#include "absl/flags/flag.h"
+
+namespace {
+const nidevo::client::ChannelOptions kDefaults;
+}
+
+ABSL_FLAG(std::string, target, kDefaults.target, "Server address host:port (any gRPC target)");
+ABSL_FLAG(bool, tls, kDefaults.tls, "Connect with TLS");
+ABSL_FLAG(std::string, ca_file, "", "PEM CA certificates for --tls (default: the system's)");
+ABSL_FLAG(double, connect_timeout_s, kDefaults.connect_timeout_s,
+          "Give up connecting (and on unary calls) after this long");
+ABSL_FLAG(double, keepalive_time_s, kDefaults.keepalive_time_s,
+          "HTTP/2 keepalive ping interval (the server accepts 10 s or more by default)");
+ABSL_FLAG(std::string, load_balancing, "",
+          "gRPC load-balancing policy, e.g. round_robin with a dns:/// target");
+
+ABSL_FLAG(std::string, encoding, "png",
+          "Frame encoding on the wire: raw (GRAY8 + UINT16), raw-f32, png, jpeg");
+ABSL_FLAG(std::string, policy, "block",
+          "Overload policy: block (lose nothing) or latest (drop old frames, real time)");
+ABSL_FLAG(int, queue_capacity, 0, "Session queue capacity (0: the server's default)");
+
+namespace nidevo::client {
+
+FrameEncoding frameEncodingFromFlags() { return parseFrameEncoding(encodingName()); }
+
+std::string encodingName() { return absl::GetFlag(FLAGS_encoding); }
+
+SessionOptions sessionOptionsFromFlags(const Camera& camera) {
+  const FrameEncoding encoding = frameEncodingFromFlags();
+  SessionOptions options;
+  options.camera = camera;
+  options.color_encoding = encoding.color;
+  options.depth_encoding = encoding.depth;
+  const std::string policy = absl::GetFlag(FLAGS_policy);
+  if (policy != "block" && policy != "latest")
+    throw std::invalid_argument("--policy: '" + policy + "' is not block or latest");
+  options.overload_policy =
+      policy == "latest" ? v1::OVERLOAD_POLICY_LATEST : v1::OVERLOAD_POLICY_BLOCK;
+  const int capacity = absl::GetFlag(FLAGS_queue_capacity);
+  if (capacity < 0) throw std::invalid_argument("--queue_capacity: must not be negative");
+  options.queue_capacity = uint32_t(capacity);
+  return options;
+}
+
+ChannelOptions channelOptionsFromFlags() {
+  ChannelOptions o;
+  o.target = absl::GetFlag(FLAGS_target);
+  o.tls = absl::GetFlag(FLAGS_tls);
+  o.ca_file = absl::GetFlag(FLAGS_ca_file);
+  o.connect_timeout_s = absl::GetFlag(FLAGS_connect_timeout_s);
+  o.keepalive_time_s = absl::GetFlag(FLAGS_keepalive_time_s);
+  o.load_balancing = absl::GetFlag(FLAGS_load_balancing);
+  return o;
+}
+
+}  // namespace nidevo::client
