@@ -22,23 +22,6 @@ using client::parseFrameEncoding;
 using client::sumOf;
 using client::valueOf;
 
-std::string tempDir() {
-  char templ[] = "/tmp/nidevo_metrics_XXXXXX";
-  if (!mkdtemp(templ)) throw std::runtime_error("mkdtemp failed");
-  return templ;
-}
-
-// Runs a shell command, returns its exit status and puts stdout+stderr in *output.
-int runCommand(const std::string& command, std::string* output) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return -1;
-  char buffer[4096];
-  output->clear();
-  while (size_t n = fread(buffer, 1, sizeof(buffer), pipe)) output->append(buffer, n);
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 // Streams 12 frames of which 2 are bad, then one session that is refused.
 int driveServer(ServerProcess& server) {
   client::ChannelOptions options;
@@ -92,7 +75,7 @@ TEST(Metrics, CountersAddUpToTheFramesSent) {
 TEST(Metrics, PromtoolAcceptsTheExposition) {
   ServerProcess server;
   driveServer(server);
-  const std::string dir = tempDir();
+  const std::string dir = makeTempDir();
   const std::string path = dir + "/metrics.txt";
   std::ofstream(path) << client::httpGet(server.metricsUrl());
   std::string output;
@@ -104,7 +87,7 @@ TEST(Metrics, PromtoolAcceptsTheExposition) {
 TEST(Metrics, RealPrometheusScrapesTheFrameCounter) {
   ServerProcess server;
   const int sent = driveServer(server);
-  const std::string dir = tempDir();
+  const std::string dir = makeTempDir();
   const int port = freeTcpPort();
   std::ofstream(dir + "/prometheus.yml")
       << "global:\n  scrape_interval: 1s\n"

@@ -2,6 +2,7 @@
 
 #include <netinet/in.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -16,7 +17,8 @@
 
 namespace nidevo::test {
 
-ServerProcess::ServerProcess(const std::vector<std::string>& extra_flags) {
+ServerProcess::ServerProcess(const std::vector<std::string>& extra_flags,
+                             const std::vector<std::string>& environment) {
   char templ[] = "/tmp/nidevo_server_XXXXXX";
   if (!mkdtemp(templ)) throw std::runtime_error("mkdtemp failed");
   dir_ = templ;
@@ -28,11 +30,13 @@ ServerProcess::ServerProcess(const std::vector<std::string>& extra_flags) {
   pid_ = fork();
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGKILL);  // a crashed test leaves no server behind
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     const std::string log = dir_ + "/server.log";
     freopen(log.c_str(), "w", stderr);
+    for (const auto& e : environment) putenv(const_cast<char*>(e.c_str()));
     execv(argv[0], argv.data());
     _exit(127);
   }
@@ -89,6 +93,22 @@ int ServerProcess::waitExit(double timeout_s) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   return exit_status_;
+}
+
+int runCommand(const std::string& command, std::string* output) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return -1;
+  char buffer[4096];
+  output->clear();
+  while (size_t n = fread(buffer, 1, sizeof(buffer), pipe)) output->append(buffer, n);
+  const int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string makeTempDir() {
+  char templ[] = "/tmp/nidevo_test_XXXXXX";
+  if (!mkdtemp(templ)) throw std::runtime_error("mkdtemp failed");
+  return templ;
 }
 
 int freeTcpPort() {

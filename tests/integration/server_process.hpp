@@ -10,8 +10,10 @@ namespace nidevo::test {
 class ServerProcess {
  public:
   // Starts the server with --address/--metrics_address on 127.0.0.1:0 plus `extra_flags`, and
-  // waits until it has written its port file. Throws std::runtime_error on failure.
-  explicit ServerProcess(const std::vector<std::string>& extra_flags = {});
+  // waits until it has written its port file. `environment` entries are NAME=value.
+  // Throws std::runtime_error on failure.
+  explicit ServerProcess(const std::vector<std::string>& extra_flags = {},
+                         const std::vector<std::string>& environment = {});
   ~ServerProcess();  // SIGKILL if still running
 
   std::string target() const { return "127.0.0.1:" + std::to_string(grpc_port_); }
@@ -34,5 +36,10 @@ class ServerProcess {
 
 // A TCP port that was free a moment ago (for programs that cannot take port 0).
 int freeTcpPort();
+
+// Runs a shell command; returns its exit status, stdout+stderr in *output.
+int runCommand(const std::string& command, std::string* output);
+
+std::string makeTempDir();
 
 }  // namespace nidevo::test

@@ -1,0 +1,188 @@
+// The user-facing client programs against the real server: replay, load test, health, the
+// Python example, and flags from the environment.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "nidevo/trajectory.hpp"
+#include "server_process.hpp"
+#include "service_fixtures.hpp"
+
+namespace nidevo::test {
+namespace {
+
+// A 40-frame synthetic TUM folder, written once for the whole test binary.
+const std::string& syntheticFolder() {
+  static const std::string folder = [] {
+    const std::string dir = makeTempDir() + "/office";
+    std::string output;
+    const int rc = runCommand(std::string(NIDEVO_BIN_DIR "/nidevo-synth --frames 40 --texture low "
+                                                         "--out ") +
+                                  dir,
+                              &output);
+    if (rc != 0) throw std::runtime_error("nidevo-synth failed: " + output);
+    return dir;
+  }();
+  return folder;
+}
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The "rmse" line of the APE table.
+std::string apeRmse(const std::string& report) {
+  const size_t ape = report.find("APE");
+  const size_t rmse = report.find("rmse", ape);
+  if (ape == std::string::npos || rmse == std::string::npos) return "";
+  return report.substr(rmse, report.find('\n', rmse) - rmse);
+}
+
+TEST(ClientTools, ReplayWritesTheOfflineTrajectory) {
+  ServerProcess server;
+  const std::string dir = makeTempDir();
+  std::string offline_out, replay_out;
+  ASSERT_EQ(runCommand(NIDEVO_BIN_DIR "/nidevo-run --dataset " + syntheticFolder() + " --out " +
+                           dir + "/offline.txt",
+                       &offline_out),
+            0)
+      << offline_out;
+  for (const char* encoding : {"png", "raw"}) {
+    SCOPED_TRACE(encoding);
+    ASSERT_EQ(runCommand(NIDEVO_BIN_DIR "/nidevo-client replay --target " + server.target() +
+                             " --dataset " + syntheticFolder() + " --encoding " + encoding +
+                             " --out " + dir + "/replay.txt --plot " + dir + "/replay.png",
+                         &replay_out),
+              0)
+        << replay_out;
+    EXPECT_NE(replay_out.find("40 frames sent, 40 answered"), std::string::npos) << replay_out;
+    // Lossless encodings: the server sees the offline tool's exact frames, so the poses agree
+    // to the last bits the quaternion round trip through the API keeps.
+    const Trajectory offline = readTumTrajectory(dir + "/offline.txt");
+    const Trajectory replay = readTumTrajectory(dir + "/replay.txt");
+    ASSERT_EQ(replay.size(), offline.size());
+    for (size_t i = 0; i < offline.size(); ++i) {
+      EXPECT_EQ(replay[i].timestamp, offline[i].timestamp);
+      EXPECT_LT((replay[i].translation - offline[i].translation).norm(), 1e-12) << i;
+      EXPECT_LT(replay[i].rotation.angularDistance(offline[i].rotation), 1e-9) << i;
+    }
+    EXPECT_FALSE(apeRmse(replay_out).empty()) << replay_out;
+    EXPECT_EQ(apeRmse(replay_out), apeRmse(offline_out));
+    EXPECT_TRUE(std::filesystem::exists(dir + "/replay.png"));
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ClientTools, LoadTestClosesItsAccountingAndReportsPercentiles) {
+  ServerProcess server;
+  const std::string dir = makeTempDir();
+  std::string out;
+  const int rc = runCommand(NIDEVO_BIN_DIR "/nidevo-client load --target " + server.target() +
+                                " --sessions 3 --warmup_s 1 --duration_s 3 --frames 20 "
+                                "--encoding raw --metrics_url " +
+                                server.metricsUrl() + " --json " + dir + "/load.json --csv " + dir +
+                                "/load.csv",
+                            &out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("p99 ms"), std::string::npos) << out;
+  EXPECT_EQ(out.find("DOES NOT ADD UP"), std::string::npos) << out;
+  const std::string json = readText(dir + "/load.json");
+  EXPECT_NE(json.find("\"accounting_closed\": true"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"sessions_ended\": {\"OK\": 3}"), std::string::npos) << json;
+  // The server counted exactly what the tester sent.
+  const size_t sent_at = json.find("\"sent\": ");
+  const size_t frames_at = json.find("\"frames\": ");
+  ASSERT_NE(sent_at, std::string::npos);
+  ASSERT_NE(frames_at, std::string::npos);
+  EXPECT_EQ(std::stol(json.substr(sent_at + 8)), std::stol(json.substr(frames_at + 10))) << json;
+  EXPECT_GT(std::stol(json.substr(sent_at + 8)), 3 * 30 * 3 * 9 / 10);  // ~30 Hz for 4 s
+  const size_t p50_at = json.find("\"p50\": ");
+  EXPECT_GT(std::stod(json.substr(p50_at + 7)), 0.0);
+  const std::string csv = readText(dir + "/load.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2) << csv;  // header + one step
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ClientTools, HealthExitCodeFollowsTheServer) {
+  std::string out;
+  {
+    ServerProcess server;
+    EXPECT_EQ(runCommand(NIDEVO_BIN_DIR "/nidevo-client health --target " + server.target(), &out),
+              0);
+    EXPECT_NE(out.find("SERVING"), std::string::npos);
+    EXPECT_EQ(runCommand(NIDEVO_BIN_DIR "/nidevo-client info --target " + server.target(), &out),
+              0);
+    EXPECT_NE(out.find("nidevo.v1"), std::string::npos) << out;
+  }
+  EXPECT_EQ(runCommand(NIDEVO_BIN_DIR "/nidevo-client health --connect_timeout_s 1 --target "
+                                      "127.0.0.1:" +
+                           std::to_string(freeTcpPort()),
+                       &out),
+            1);
+  EXPECT_NE(out.find("UNAVAILABLE"), std::string::npos) << out;
+}
+
+TEST(ClientTools, FlagsComeFromTheEnvironmentAndTheCommandLineWins) {
+  ServerProcess server({"--default_queue_capacity=2"},
+                       {"NIDEVO_MAX_SESSIONS=3", "NIDEVO_DEFAULT_QUEUE_CAPACITY=9"});
+  client::ChannelOptions options;
+  options.target = server.target();
+  client::Client client(options);
+  v1::ServerInfo info;
+  ASSERT_TRUE(client.serverInfo(&info).ok());
+  EXPECT_EQ(info.max_sessions(), 3u);
+  EXPECT_EQ(info.default_queue_capacity(), 2u);
+}
+
+TEST(ClientTools, PythonClientGetsOnePosePerFrame) {
+  const std::string dir = makeTempDir();
+  std::string out;
+  ASSERT_EQ(runCommand("/usr/bin/python3 -m grpc_tools.protoc -I" NIDEVO_SOURCE_DIR "/proto"
+                       " --python_out=" +
+                           dir + " --grpc_python_out=" + dir +
+                           " " NIDEVO_SOURCE_DIR "/proto/nidevo/v1/odometry.proto",
+                       &out),
+            0)
+      << out;
+  ServerProcess server;
+  ASSERT_EQ(runCommand("PYTHONPATH=" + dir +
+                           " /usr/bin/python3 " NIDEVO_SOURCE_DIR
+                           "/client/python/nidevo_stream.py --target " +
+                           server.target() + " --folder " + syntheticFolder(),
+                       &out),
+            0)
+      << out;
+  // Same poses as the offline tool on the same files.
+  std::string offline_out;
+  ASSERT_EQ(runCommand(NIDEVO_BIN_DIR "/nidevo-run --dataset " + syntheticFolder() + " --out " +
+                           dir + "/offline.txt",
+                       &offline_out),
+            0);
+  const Trajectory offline = readTumTrajectory(dir + "/offline.txt");
+  std::istringstream lines(out);
+  std::string line;
+  size_t n = 0;
+  while (std::getline(lines, line)) {
+    std::istringstream f(line);
+    uint64_t sequence;
+    double t, tx, ty, tz, qx, qy, qz, qw, psr;
+    std::string status;
+    ASSERT_TRUE(f >> sequence >> t >> status >> tx >> ty >> tz >> qx >> qy >> qz >> qw >> psr)
+        << line;
+    ASSERT_EQ(sequence, n);
+    EXPECT_TRUE(status == "OK" || status == "DEGRADED") << line;
+    EXPECT_NEAR(tx, offline[n].translation.x(), 1e-8);
+    EXPECT_NEAR(tz, offline[n].translation.z(), 1e-8);
+    ++n;
+  }
+  EXPECT_EQ(n, 40u) << out;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace nidevo::test
