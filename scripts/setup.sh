@@ -1,28 +1,47 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages that the build and the tests need. Idempotent and
-# non-interactive; does nothing (quickly) when everything is present.
+# Installs the Debian 12 packages that the build needs; with --tests also what the tests and the
+# deployment checks use (Prometheus + promtool, Python gRPC, docker-compose, Node for the
+# Kubernetes schema check). Idempotent and non-interactive; quick when everything is present.
 set -euo pipefail
+cd "$(dirname "$0")/.."
 
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libfftw3-dev libabsl-dev
   # The minimal OpenCV set: libopencv-dev would pull ~1.5 GB of contrib, VTK and Qt.
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
+  # The service: gRPC's CMake config checks for the plugins in protobuf-compiler-grpc.
+  libgrpc++-dev libgrpc-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
+  prometheus-cpp-dev libcurl4-openssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
+if [ "${1:-}" = "--tests" ]; then
+  packages+=(prometheus python3-grpcio python3-grpc-tools docker-compose yamllint curl)
+  # kubectl renders the kustomize manifests; Debian's (1.20) does if none is installed.
+  command -v kubectl >/dev/null || packages+=(kubernetes-client)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "setup: all ${#packages[@]} packages present"
-  exit 0
-fi
-
-echo "setup: installing ${missing[*]}"
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-$SUDO apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages present"
+else
+  echo "setup: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+if [ "${1:-}" = "--tests" ] && [ -f deploy/validate/package.json ]; then
+  command -v npm >/dev/null || { echo "setup: the Kubernetes check needs Node.js and npm" >&2; exit 1; }
+  # The Kubernetes schema check's npm packages, pinned by the lock file, kept out of the tree.
+  if [ ! -d build/npm/node_modules/kubernetes-models ]; then
+    mkdir -p build/npm
+    cp deploy/validate/package.json deploy/validate/package-lock.json build/npm/
+    (cd build/npm && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+fi
