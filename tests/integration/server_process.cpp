@@ -23,7 +23,9 @@ ServerProcess::ServerProcess(const std::vector<std::string>& extra_flags,
   if (!mkdtemp(templ)) throw std::runtime_error("mkdtemp failed");
   dir_ = templ;
   const std::string port_file = dir_ + "/ports";
-  std::vector<std::string> args = {NIDEVO_SERVER_BINARY, "--address=127.0.0.1:0",
+  // NIDEVO_TEST_SERVER_BINARY runs these tests against another build (the sanitizer one).
+  const char* binary = std::getenv("NIDEVO_TEST_SERVER_BINARY");
+  std::vector<std::string> args = {binary ? binary : NIDEVO_SERVER_BINARY, "--address=127.0.0.1:0",
                                    "--metrics_address=127.0.0.1:0", "--port_file=" + port_file,
                                    "--workers=2"};
   args.insert(args.end(), extra_flags.begin(), extra_flags.end());
