@@ -139,6 +139,38 @@ TEST(ClientTools, FlagsComeFromTheEnvironmentAndTheCommandLineWins) {
   EXPECT_EQ(info.default_queue_capacity(), 2u);
 }
 
+TEST(ClientTools, TlsWithACaFile) {
+  const std::string dir = makeTempDir();
+  std::string out;
+  ASSERT_EQ(runCommand("openssl req -x509 -newkey rsa:2048 -nodes -days 1 -subj /CN=localhost "
+                       "-addext subjectAltName=DNS:localhost,IP:127.0.0.1 -keyout " +
+                           dir + "/key.pem -out " + dir + "/cert.pem",
+                       &out),
+            0)
+      << out;
+  ServerProcess server(
+      {"--tls_cert_file=" + dir + "/cert.pem", "--tls_key_file=" + dir + "/key.pem"});
+  client::ChannelOptions options;
+  options.target = server.target();
+  options.tls = true;
+  options.ca_file = dir + "/cert.pem";
+  client::Client tls_client(options);
+  bool serving = false;
+  const grpc::Status status = tls_client.health("", &serving);
+  EXPECT_TRUE(status.ok()) << status.error_message();
+  EXPECT_TRUE(serving);
+  client::Client streaming(options);
+  const StreamResult result =
+      streamSequence(streaming, renderOffice(3, 1), client::parseFrameEncoding("raw"));
+  EXPECT_TRUE(result.status.ok()) << result.status.error_message();
+  EXPECT_EQ(result.responses.size(), 3u);
+  options.tls = false;  // plaintext against a TLS port fails
+  options.connect_timeout_s = 2;
+  client::Client plain(options);
+  EXPECT_FALSE(plain.health("", &serving).ok());
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ClientTools, PythonClientGetsOnePosePerFrame) {
   const std::string dir = makeTempDir();
   std::string out;
