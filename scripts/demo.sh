@@ -34,7 +34,7 @@ cat "$out/server.log"
 build/bin/nidevo-client health --target "127.0.0.1:$grpc_port"
 
 echo
-echo "== 3/3 streaming the sequence through the server (PNG frames, as recorded)"
+echo "== 3/3 streaming the sequence through the server (PNG frames, as fast as the server takes them)"
 build/bin/nidevo-client replay --target "127.0.0.1:$grpc_port" --dataset "$out/sequence" \
   --encoding png --out "$out/trajectory.txt" --plot "$out/trajectory.png"
 echo
