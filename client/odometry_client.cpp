@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "absl/status/status.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 
 namespace nidevo::client {
@@ -25,26 +26,9 @@ std::chrono::system_clock::time_point after(double seconds) {
 
 }  // namespace
 
-const char* statusCodeName(grpc::StatusCode code) {
-  static const char* const kNames[] = {"OK",
-                                       "CANCELLED",
-                                       "UNKNOWN",
-                                       "INVALID_ARGUMENT",
-                                       "DEADLINE_EXCEEDED",
-                                       "NOT_FOUND",
-                                       "ALREADY_EXISTS",
-                                       "PERMISSION_DENIED",
-                                       "RESOURCE_EXHAUSTED",
-                                       "FAILED_PRECONDITION",
-                                       "ABORTED",
-                                       "OUT_OF_RANGE",
-                                       "UNIMPLEMENTED",
-                                       "INTERNAL",
-                                       "UNAVAILABLE",
-                                       "DATA_LOSS",
-                                       "UNAUTHENTICATED"};
-  const int c = int(code);
-  return c >= 0 && c < 17 ? kNames[c] : "UNKNOWN";
+std::string statusCodeName(grpc::StatusCode code) {
+  // gRPC's codes are Abseil's, value for value.
+  return absl::StatusCodeToString(static_cast<absl::StatusCode>(code));
 }
 
 Client::Client(const ChannelOptions& options) : options_(options) {

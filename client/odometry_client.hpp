@@ -87,6 +87,6 @@ class Client {
 };
 
 // Human name of a gRPC status code, e.g. "RESOURCE_EXHAUSTED".
-const char* statusCodeName(grpc::StatusCode code);
+std::string statusCodeName(grpc::StatusCode code);
 
 }  // namespace nidevo::client

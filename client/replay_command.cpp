@@ -135,7 +135,7 @@ int replayCommand() {
     std::printf("server time per frame (arrival to answer): median %.2f ms, max %.2f ms\n",
                 server_ms[server_ms.size() / 2], server_ms.back());
   if (!status.ok()) {
-    std::printf("stream ended with %s: %s\n", statusCodeName(status.error_code()),
+    std::printf("stream ended with %s: %s\n", statusCodeName(status.error_code()).c_str(),
                 status.error_message().c_str());
     return 1;
   }

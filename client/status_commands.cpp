@@ -16,7 +16,8 @@ int healthCommand() {
   bool serving = false;
   const grpc::Status status = client.health(absl::GetFlag(FLAGS_service), &serving);
   if (!status.ok()) {
-    std::printf("%s: %s\n", statusCodeName(status.error_code()), status.error_message().c_str());
+    std::printf("%s: %s\n", statusCodeName(status.error_code()).c_str(),
+                status.error_message().c_str());
     return 1;
   }
   std::printf("%s\n", serving ? "SERVING" : "NOT_SERVING");
@@ -28,7 +29,8 @@ int infoCommand() {
   v1::ServerInfo info;
   const grpc::Status status = client.serverInfo(&info);
   if (!status.ok()) {
-    std::printf("%s: %s\n", statusCodeName(status.error_code()), status.error_message().c_str());
+    std::printf("%s: %s\n", statusCodeName(status.error_code()).c_str(),
+                status.error_message().c_str());
     return 1;
   }
   std::printf("version            %s (%s)\n", info.version().c_str(), info.api().c_str());

@@ -1,7 +1,5 @@
 #include "odometry_service.hpp"
 
-#include <iostream>
-
 namespace nidevo::server {
 
 OdometryService::OdometryService(const ServerConfig& config, WorkerPool& pool,

@@ -2,6 +2,8 @@
 
 #include <grpcpp/support/status_code_enum.h>
 
+#include "absl/status/status.h"
+
 namespace nidevo::server {
 
 namespace {
@@ -10,27 +12,6 @@ namespace {
 prometheus::Histogram::BucketBoundaries latencyBuckets() {
   return {0.0005, 0.001, 0.002, 0.003, 0.004, 0.005, 0.0075, 0.01, 0.015,
           0.02,   0.033, 0.05,  0.075, 0.1,   0.25,  0.5,    1.0};
-}
-
-const char* codeName(int code) {
-  static const char* const kNames[] = {"OK",
-                                       "CANCELLED",
-                                       "UNKNOWN",
-                                       "INVALID_ARGUMENT",
-                                       "DEADLINE_EXCEEDED",
-                                       "NOT_FOUND",
-                                       "ALREADY_EXISTS",
-                                       "PERMISSION_DENIED",
-                                       "RESOURCE_EXHAUSTED",
-                                       "FAILED_PRECONDITION",
-                                       "ABORTED",
-                                       "OUT_OF_RANGE",
-                                       "UNIMPLEMENTED",
-                                       "INTERNAL",
-                                       "UNAVAILABLE",
-                                       "DATA_LOSS",
-                                       "UNAUTHENTICATED"};
-  return code >= 0 && code < 17 ? kNames[code] : "UNKNOWN";
 }
 
 }  // namespace
@@ -81,7 +62,8 @@ ServerMetrics::ServerMetrics(const std::string& version)
                           .Register(*registry_);
   // Every code up front (17, bounded): rates start from zero and recording never adds a child.
   for (size_t code = 0; code < sessions_by_code_.size(); ++code)
-    sessions_by_code_[code] = &sessions_family_->Add({{"code", codeName(int(code))}});
+    sessions_by_code_[code] = &sessions_family_->Add(
+        {{"code", absl::StatusCodeToString(static_cast<absl::StatusCode>(code))}});
   active_sessions_ = &BuildGauge()
                           .Name("nidevo_active_sessions")
                           .Help("Sessions (streams) currently open")

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <exception>
-#include <iostream>
 #include <sstream>
 
 #include "pose_response.hpp"
@@ -328,7 +327,6 @@ void Session::maybeFinishOk() {
 
 void Session::OnCancel() {
   std::lock_guard<std::mutex> lock(mutex_);
-  cancelled_ = true;
   read_closed_ = true;
   finish(grpc::Status(grpc::StatusCode::CANCELLED, "cancelled"));
 }

@@ -92,7 +92,6 @@ class Session final : public grpc::ServerBidiReactor<v1::TrackRequest, v1::Track
   bool configured_ = false;
   bool finish_called_ = false;
   std::optional<grpc::Status> finish_pending_;
-  bool cancelled_ = false;
   bool done_ = false;
   int tasks_in_flight_ = 0;
   Clock::time_point last_activity_;
