@@ -183,6 +183,26 @@ void Session::runTask(std::function<void()> work) {
   env_.pool->submit(std::move(work));
 }
 
+// A frame whose turn it is goes on to its next stage on the same worker: no queue hop, which
+// keeps a lone session's latency close to its compute time. Other frames are dispatched too.
+bool Session::claimNextStage(Slot* slot) {
+  if (finish_pending_ || finish_called_ || !slot->error.empty()) return false;
+  if (slot->stage == SlotStage::kNormalsDone && !rotation_running_ &&
+      slot->ticket == next_rotation_) {
+    slot->stage = SlotStage::kRotation;
+    rotation_running_ = true;
+  } else if (slot->stage == SlotStage::kRotationDone && !translation_running_ &&
+             slot->ticket == next_translation_) {
+    slot->stage = SlotStage::kTranslation;
+    translation_running_ = true;
+  } else {
+    return false;
+  }
+  schedule();
+  startReadIfWanted();
+  return true;
+}
+
 void Session::runNormals(Slot* slot) {
   const Clock::time_point start = Clock::now();
   slot->queue_s = secondsBetween(slot->pending.arrival, start);
@@ -197,6 +217,11 @@ void Session::runNormals(Slot* slot) {
   }
   std::unique_lock<std::mutex> lock(mutex_);
   slot->stage = SlotStage::kNormalsDone;
+  if (claimNextStage(slot)) {
+    lock.unlock();
+    runRotation(slot);
+    return;
+  }
   taskDone(std::move(lock));
 }
 
@@ -206,6 +231,11 @@ void Session::runRotation(Slot* slot) {
   slot->stage = SlotStage::kRotationDone;
   rotation_running_ = false;
   ++next_rotation_;
+  if (claimNextStage(slot)) {
+    lock.unlock();
+    runTranslation(slot);
+    return;
+  }
   taskDone(std::move(lock));
 }
 

@@ -77,6 +77,8 @@ class Session final : public grpc::ServerBidiReactor<v1::TrackRequest, v1::Track
                               const std::string& reason) const;
   void runTask(std::function<void()> work);
 
+  // With mutex_ held: moves the slot into its next stage if it may run now.
+  bool claimNextStage(Slot* slot);
   // Worker-side stage bodies: run without mutex_ on one slot.
   void runNormals(Slot* slot);
   void runRotation(Slot* slot);
