@@ -1,5 +1,5 @@
 // nidevo-server: the NIDEVO odometry as a gRPC streaming service with Prometheus metrics.
-#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <dlfcn.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <pthread.h>
@@ -137,6 +137,15 @@ void warmUp(const nidevo::OdometryConfig& config) {
   }
 }
 
+// gRPC's reflection library registers its plugin for every server as soon as it is loaded, so it
+// is loaded only when asked for; linking it would serve reflection whatever the flag says.
+void enableReflection() {
+  constexpr const char* kLibrary = "libgrpc++_reflection.so.1.51";
+  if (!dlopen(kLibrary, RTLD_NOW | RTLD_GLOBAL))
+    throw std::runtime_error(std::string("--reflection: cannot load ") + kLibrary + ": " +
+                             dlerror());
+}
+
 int run(const ServerConfig& config) {
   nidevo::server::ServerMetrics metrics(NIDEVO_VERSION);
   std::unique_ptr<prometheus::Exposer> exposer;  // after the registry (see build notes)
@@ -157,7 +166,7 @@ int run(const ServerConfig& config) {
   auto pool = std::make_unique<nidevo::server::WorkerPool>(config.workers);
   auto service = std::make_unique<nidevo::server::OdometryService>(config, *pool, metrics);
   grpc::EnableDefaultHealthCheckService(true);
-  if (config.reflection) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  if (config.reflection) enableReflection();
   grpc::ServerBuilder builder;
   int grpc_port = 0;
   builder.AddListeningPort(config.address, credentials(), &grpc_port);

@@ -171,6 +171,34 @@ TEST(ClientTools, TlsWithACaFile) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(ClientTools, ReflectionOnlyWithTheFlag) {
+  const std::string dir = makeTempDir();
+  std::string out;
+  ASSERT_EQ(
+      runCommand("/usr/bin/python3 -m grpc_tools.protoc -I" NIDEVO_SOURCE_DIR
+                 "/tests/integration/proto --python_out=" +
+                     dir + " --grpc_python_out=" + dir +
+                     " " NIDEVO_SOURCE_DIR "/tests/integration/proto/reflection_v1alpha.proto",
+                 &out),
+      0)
+      << out;
+  const std::string list = "PYTHONPATH=" + dir +
+                           " /usr/bin/python3 " NIDEVO_SOURCE_DIR
+                           "/tests/integration/list_services.py ";
+  {
+    ServerProcess server({"--reflection"});
+    ASSERT_EQ(runCommand(list + server.target(), &out), 0) << out;
+    EXPECT_NE(out.find("nidevo.v1.OdometryService"), std::string::npos) << out;
+    EXPECT_NE(out.find("grpc.health.v1.Health"), std::string::npos) << out;
+  }
+  {
+    ServerProcess server;
+    EXPECT_EQ(runCommand(list + server.target(), &out), 1) << out;
+    EXPECT_NE(out.find("UNIMPLEMENTED"), std::string::npos) << out;
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ClientTools, PythonClientGetsOnePosePerFrame) {
   const std::string dir = makeTempDir();
   std::string out;
