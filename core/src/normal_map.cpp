@@ -30,11 +30,20 @@ void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, i
   raw_.resize(n);
   tmp_.resize(n);
 
+  // Back-projection as Camera::backproject computes it, with the divisions done once per
+  // column and row instead of per pixel.
+  ray_x_.resize(size_t(W));
+  ray_y_.resize(size_t(H));
+  for (int u = 0; u < W; ++u) ray_x_[size_t(u)] = float((float(u) - cam.cx) / cam.fx);
+  for (int v = 0; v < H; ++v) ray_y_[size_t(v)] = float((float(v) - cam.cy) / cam.fy);
   for (int v = 0; v < H; ++v) {
+    const float* row = &depth.data[size_t(v * stride) * size_t(depth.width)];
+    Eigen::Vector3f* dst = &out->points[size_t(v) * W];
+    const float ry = ray_y_[size_t(v)];
     for (int u = 0; u < W; ++u) {
-      float z = depth.at(u * stride, v * stride);
+      float z = row[u * stride];
       if (!(z >= min_depth && z <= max_depth)) z = 0.f;  // also rejects NaN
-      out->points[size_t(v) * W + u] = cam.backproject(float(u), float(v), z);
+      dst[u] = Eigen::Vector3f(ray_x_[size_t(u)] * z, ry * z, z);
     }
   }
 

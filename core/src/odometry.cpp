@@ -103,6 +103,13 @@ Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
       }
     }
   }
+  // Camera::backproject's per-pixel divisions, done once per column and row.
+  ray_x_.resize(size_t(W));
+  ray_y_.resize(size_t(H));
+  for (int u = 0; u < W; ++u)
+    ray_x_[size_t(u)] = float((float(u * stride) - camera_.cx) / camera_.fx);
+  for (int v = 0; v < H; ++v)
+    ray_y_[size_t(v)] = float((float(v * stride) - camera_.cy) / camera_.fy);
   rot_ = std::make_unique<RotationState>();
   trans_ = std::make_unique<TranslationState>(config_);
 }
@@ -135,13 +142,16 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
   s->intensity.resize(size_t(W) * size_t(H));
   int valid = 0;
   for (int v = 0; v < H; ++v) {
+    const float* depth_row = &frame.depth.data[size_t(v * stride) * size_t(camera_.width)];
+    const uint8_t* gray_row = &frame.gray.data[size_t(v * stride) * size_t(camera_.width)];
+    const float ry = ray_y_[size_t(v)];
     for (int u = 0; u < W; ++u) {
-      float z = frame.depth.at(u * stride, v * stride);
+      float z = depth_row[u * stride];
       if (!(z >= config_.min_depth_m && z <= config_.max_depth_m)) z = 0.f;
       valid += z > 0.f;
       const size_t i = size_t(v) * size_t(W) + size_t(u);
-      s->points[i] = camera_.backproject(float(u * stride), float(v * stride), z);
-      s->intensity[i] = float(frame.gray.at(u * stride, v * stride)) * (1.f / 255.f);
+      s->points[i] = Eigen::Vector3f(ray_x_[size_t(u)] * z, ry * z, z);
+      s->intensity[i] = float(gray_row[u * stride]) * (1.f / 255.f);
     }
   }
   s->depth_ok =

@@ -33,6 +33,7 @@ class NormalMapBuilder {
   std::vector<Eigen::Vector4f> raw_;  // xyz normal + 1 where valid, 0 elsewhere
   std::vector<Eigen::Vector4f> tmp_;  // horizontal box sums
   std::vector<Eigen::Vector4f> column_sums_;
+  std::vector<float> ray_x_, ray_y_;  // (u - cx) / fx per column, (v - cy) / fy per row
 };
 
 }  // namespace nidevo

@@ -104,7 +104,8 @@ class Odometry {
   OdometryConfig config_;
   std::unique_ptr<RotationState> rot_;
   std::unique_ptr<TranslationState> trans_;
-  std::vector<float> point_weight_;  // per projection point, fades contrast at the border
+  std::vector<float> point_weight_;   // per projection point, fades contrast at the border
+  std::vector<float> ray_x_, ray_y_;  // projection cloud: (u - cx) / fx per column, per row
   FrameState own_state_;
   uint64_t next_index_ = 0;
 };
