@@ -31,6 +31,13 @@ std::string statusCodeName(grpc::StatusCode code) {
   return absl::StatusCodeToString(static_cast<absl::StatusCode>(code));
 }
 
+Eigen::Isometry3d toIsometry(const v1::Pose& pose) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(pose.qw(), pose.qx(), pose.qy(), pose.qz()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(pose.tx(), pose.ty(), pose.tz());
+  return T;
+}
+
 Client::Client(const ChannelOptions& options) : options_(options) {
   grpc::ChannelArguments args;
   args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, int(options.keepalive_time_s * 1000));

@@ -4,6 +4,7 @@
 // while HTTP/2 flow control pushes back); every gRPC status is surfaced with its message.
 #include <grpcpp/grpcpp.h>
 
+#include <Eigen/Geometry>
 #include <functional>
 #include <memory>
 #include <string>
@@ -85,6 +86,9 @@ class Client {
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::OdometryService::Stub> stub_;
 };
+
+// T_world_cam of an answer.
+Eigen::Isometry3d toIsometry(const v1::Pose& pose);
 
 // Human name of a gRPC status code, e.g. "RESOURCE_EXHAUSTED".
 std::string statusCodeName(grpc::StatusCode code);

@@ -29,22 +29,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-const char* shortName(v1::FrameStatus s) {
-  switch (s) {
-    case v1::FRAME_STATUS_OK:
-      return "OK";
-    case v1::FRAME_STATUS_DEGRADED:
-      return "DEGRADED";
-    case v1::FRAME_STATUS_LOST:
-      return "LOST";
-    case v1::FRAME_STATUS_DROPPED:
-      return "DROPPED";
-    case v1::FRAME_STATUS_ERROR:
-      return "ERROR";
-    default:
-      return "?";
-  }
-}
+// "FRAME_STATUS_DEGRADED" -> "DEGRADED"
+std::string shortName(v1::FrameStatus s) { return v1::FrameStatus_Name(s).substr(13); }
 
 }  // namespace
 
@@ -83,7 +69,7 @@ int replayCommand() {
         const v1::TrackResponse* last = responses.empty() ? nullptr : &responses.back();
         std::fprintf(stderr, "\r%zu/%zu sent, %zu answered, %.1f frames/s, PSR %.1f, %-8s",
                      sent.load(), total, responses.size(), responses.size() / secs,
-                     last ? last->psr() : 0.0, last ? shortName(last->status()) : "");
+                     last ? last->psr() : 0.0, last ? shortName(last->status()).c_str() : "");
       }
       std::fprintf(stderr, "\n");
     });
@@ -117,11 +103,7 @@ int replayCommand() {
       std::fprintf(stderr, "frame %llu: %s\n", (unsigned long long)r.sequence(),
                    r.reason().c_str());
     if (r.status() < v1::FRAME_STATUS_OK || r.status() > v1::FRAME_STATUS_LOST) continue;
-    const auto& p = r.pose();
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::Quaterniond(p.qw(), p.qx(), p.qy(), p.qz()).toRotationMatrix();
-    T.translation() = Eigen::Vector3d(p.tx(), p.ty(), p.tz());
-    estimate.push_back(StampedPose::fromPose(r.timestamp(), T));
+    estimate.push_back(StampedPose::fromPose(r.timestamp(), toIsometry(r.pose())));
     server_ms.push_back(1e3 * r.timings().total());
   }
   std::sort(server_ms.begin(), server_ms.end());

@@ -49,11 +49,4 @@ StreamResult streamSequence(client::Client& client, const TestSequence& sequence
   return result;
 }
 
-Eigen::Isometry3d toIsometry(const v1::Pose& pose) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(pose.qw(), pose.qx(), pose.qy(), pose.qz()).toRotationMatrix();
-  T.translation() = Eigen::Vector3d(pose.tx(), pose.ty(), pose.tz());
-  return T;
-}
-
 }  // namespace nidevo::test

@@ -31,6 +31,4 @@ struct StreamResult {
 StreamResult streamSequence(client::Client& client, const TestSequence& sequence,
                             const client::FrameEncoding& encoding);
 
-Eigen::Isometry3d toIsometry(const v1::Pose& pose);
-
 }  // namespace nidevo::test

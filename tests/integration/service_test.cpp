@@ -31,7 +31,7 @@ void expectSamePoses(const std::vector<v1::TrackResponse>& responses,
     const auto& r = responses[i];
     EXPECT_EQ(r.sequence(), i);
     EXPECT_EQ(int(r.status()), int(offline[i].state) + 1) << "frame " << i << " " << r.reason();
-    const Eigen::Isometry3d T = toIsometry(r.pose());
+    const Eigen::Isometry3d T = client::toIsometry(r.pose());
     EXPECT_LT((T.translation() - offline[i].T_world_cam.translation()).norm(), 1e-9)
         << "frame " << i;
     const Eigen::AngleAxisd dR(T.linear().transpose() * offline[i].T_world_cam.linear());
