@@ -21,6 +21,9 @@ ABSL_FLAG(std::string, encoding, "png",
 ABSL_FLAG(std::string, policy, "block",
           "Overload policy: block (lose nothing) or latest (drop old frames, real time)");
 ABSL_FLAG(int, queue_capacity, 0, "Session queue capacity (0: the server's default)");
+ABSL_FLAG(double, deadline_s, 0,
+          "Deadline of each whole stream, seconds (0: none); past it the stream ends "
+          "DEADLINE_EXCEEDED");
 
 namespace nidevo::client {
 
@@ -42,6 +45,8 @@ SessionOptions sessionOptionsFromFlags(const Camera& camera) {
   const int capacity = absl::GetFlag(FLAGS_queue_capacity);
   if (capacity < 0) throw std::invalid_argument("--queue_capacity: must not be negative");
   options.queue_capacity = uint32_t(capacity);
+  options.deadline_s = absl::GetFlag(FLAGS_deadline_s);
+  if (!(options.deadline_s >= 0)) throw std::invalid_argument("--deadline_s: must not be negative");
   return options;
 }
 

@@ -127,6 +127,17 @@ TEST(ClientTools, HealthExitCodeFollowsTheServer) {
   EXPECT_NE(out.find("UNAVAILABLE"), std::string::npos) << out;
 }
 
+TEST(ClientTools, ReplayEndsAtItsDeadlineWithTheStatus) {
+  ServerProcess server;
+  std::string out;
+  EXPECT_EQ(runCommand(NIDEVO_BIN_DIR "/nidevo-client replay --frames 20 --pace --deadline_s 0.3 "
+                                      "--target " +
+                           server.target(),
+                       &out),
+            1);
+  EXPECT_NE(out.find("stream ended with DEADLINE_EXCEEDED"), std::string::npos) << out;
+}
+
 TEST(ClientTools, FlagsComeFromTheEnvironmentAndTheCommandLineWins) {
   ServerProcess server({"--default_queue_capacity=2"},
                        {"NIDEVO_MAX_SESSIONS=3", "NIDEVO_DEFAULT_QUEUE_CAPACITY=9"});
