@@ -240,7 +240,7 @@ void Odometry::projectForCorrelation(const CloudView& cloud, const Eigen::Matrix
                                      OrthoImage* image) const {
   OrthoProjector::project(cloud, R, trans_->resolution, config_.projection_width,
                           config_.projection_height, image);
-  OrthoProjector::fillGaps(image, config_.projection_fill_gap, config_.depth_discontinuity);
+  trans_->projector.fillGaps(image, config_.projection_fill_gap, config_.depth_discontinuity);
   if (config_.projection_flatten_outline) OrthoProjector::flattenOutline(image);
 }
 

@@ -62,9 +62,9 @@ void OrthoProjector::project(const CloudView& cloud, const Eigen::Matrix3f& R, d
 
 namespace {
 
-// One line of cells (a row or a column) at `stride` apart.
-void fillLine(float* gray, float* depth, float* weight, int count, size_t stride, int max_gap,
-              float jump) {
+// One row of cells.
+void fillRow(float* gray, float* depth, float* weight, int count, int max_gap, float jump) {
+  constexpr size_t stride = 1;
   int last = -1;  // last filled cell
   for (int i = 0; i < count; ++i) {
     if (depth[size_t(i) * stride] <= 0.f) continue;
@@ -92,12 +92,35 @@ void OrthoProjector::fillGaps(OrthoImage* img, int max_gap, float relative_depth
   if (max_gap <= 0) return;
   const int W = img->width, H = img->height;
   for (int v = 0; v < H; ++v) {
-    fillLine(&img->gray[size_t(v) * W], &img->depth[size_t(v) * W], &img->weight[size_t(v) * W], W,
-             1, max_gap, relative_depth_jump);
+    fillRow(&img->gray[size_t(v) * W], &img->depth[size_t(v) * W], &img->weight[size_t(v) * W], W,
+            max_gap, relative_depth_jump);
   }
-  for (int u = 0; u < W; ++u) {
-    fillLine(&img->gray[size_t(u)], &img->depth[size_t(u)], &img->weight[size_t(u)], H, size_t(W),
-             max_gap, relative_depth_jump);
+  // Columns the same way, but walked row by row with one state per column: a column walk
+  // would touch a new cache line at every cell.
+  column_last_.assign(size_t(W), -1);
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const size_t c = size_t(v) * W + u;
+      if (img->depth[c] <= 0.f) continue;
+      int& last = column_last_[size_t(u)];
+      const int gap = v - last - 1;
+      if (last >= 0 && gap > 0 && gap <= max_gap) {
+        const size_t c0 = size_t(last) * W + u;
+        const float z0 = img->depth[c0], z1 = img->depth[c];
+        if (std::abs(z1 - z0) <= relative_depth_jump * std::min(z0, z1)) {
+          const float g0 = img->gray[c0], g1 = img->gray[c];
+          const float w0 = img->weight[c0], w1 = img->weight[c];
+          for (int k = last + 1; k < v; ++k) {
+            const float t = float(k - last) / float(v - last);
+            const size_t ck = size_t(k) * W + u;
+            img->depth[ck] = z0 + t * (z1 - z0);
+            img->gray[ck] = g0 + t * (g1 - g0);
+            img->weight[ck] = w0 + t * (w1 - w0);
+          }
+        }
+      }
+      last = v;
+    }
   }
 }
 

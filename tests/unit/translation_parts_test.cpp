@@ -99,10 +99,17 @@ TEST(OrthoProjection, GapsAreFilledWithinASurfaceOnly) {
   img.depth[0] = 2.0f, img.gray[0] = 0.2f;
   img.depth[3] = 2.03f, img.gray[3] = 0.8f;  // two-cell gap within one surface
   img.depth[5] = 3.0f;                       // one-cell gap across a depth jump
-  OrthoProjector::fillGaps(&img, 2, 0.05f);
+  OrthoImage column = img;                   // the same cells as one column
+  column.width = 1;
+  column.height = 10;
+  OrthoProjector projector;
+  projector.fillGaps(&img, 2, 0.05f);
   EXPECT_NEAR(img.depth[1], 2.01f, 1e-5);
   EXPECT_NEAR(img.gray[2], 0.6f, 1e-5);
   EXPECT_EQ(img.depth[4], 0.f);
+  projector.fillGaps(&column, 2, 0.05f);
+  EXPECT_EQ(column.depth, img.depth);
+  EXPECT_EQ(column.gray, img.gray);
 }
 
 }  // namespace

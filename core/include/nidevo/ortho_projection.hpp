@@ -37,7 +37,7 @@ class OrthoProjector {
   // interpolation when the cells on both sides lie on one surface (depths within
   // relative_depth_jump). A slanted surface spreads its points apart in the projection; left
   // alone, those holes form a moire that the correlator would lock onto.
-  static void fillGaps(OrthoImage* image, int max_gap, float relative_depth_jump);
+  void fillGaps(OrthoImage* image, int max_gap, float relative_depth_jump);
   // Sets empty cells to the mean grey of the filled ones and scales each cell's contrast about
   // that mean by its weight, so that the outline of the field of view, which moves with the
   // camera's rotation and not with the scene, carries no contrast.
@@ -45,6 +45,7 @@ class OrthoProjector {
 
  private:
   std::vector<float> scratch_;
+  std::vector<int> column_last_;  // fillGaps: last filled row of each column
 };
 
 }  // namespace nidevo
