@@ -2,8 +2,10 @@
 
 #include <cmath>
 #include <exception>
+#include <iostream>
 #include <sstream>
 
+#include "absl/status/status.h"
 #include "pose_response.hpp"
 
 namespace nidevo::server {
@@ -300,6 +302,7 @@ v1::TrackResponse Session::rejection(const v1::Frame& frame, v1::FrameStatus sta
 
 void Session::pushResponse(v1::TrackResponse response) {
   if (finish_pending_ || finish_called_) return;
+  ++answered_;
   out_.push_back(std::move(response));
   pumpWrites();
 }
@@ -320,9 +323,7 @@ void Session::OnWriteDone(bool ok) {
     finish(grpc::Status(grpc::StatusCode::CANCELLED, "stream broken while writing"));
   }
   if (finish_pending_ && !finish_called_) {
-    finish_called_ = true;
-    env_.metrics->sessionEnded(finish_pending_->error_code());
-    Finish(*finish_pending_);
+    callFinish();
     return;
   }
   pumpWrites();
@@ -339,9 +340,22 @@ void Session::finish(grpc::Status status) {
     return;                                    // OnWriteDone finishes
   }
   out_.clear();
+  callFinish();
+}
+
+void Session::callFinish() {
   finish_called_ = true;
-  env_.metrics->sessionEnded(status.error_code());
-  Finish(status);
+  env_.metrics->sessionEnded(finish_pending_->error_code());
+  if (finish_pending_->error_code() != grpc::StatusCode::CANCELLED || answered_ > 0) {
+    std::ostringstream line;  // one line per session, for operators; never per frame
+    line << "nidevo-server: session" << (client_name_.empty() ? "" : " '" + client_name_ + "'")
+         << " ended "
+         << absl::StatusCodeToString(static_cast<absl::StatusCode>(finish_pending_->error_code()))
+         << " after " << answered_ << " answers";
+    if (!finish_pending_->ok()) line << ": " << finish_pending_->error_message();
+    std::cerr << line.str() + "\n";
+  }
+  Finish(*finish_pending_);
 }
 
 bool Session::idle() const {

@@ -70,6 +70,7 @@ class Session final : public grpc::ServerBidiReactor<v1::TrackRequest, v1::Track
   void pushResponse(v1::TrackResponse response);
   void pumpWrites();
   void finish(grpc::Status status);
+  void callFinish();  // Finish(*finish_pending_), counted and logged
   void maybeFinishOk();
   bool idle() const;
   Slot* slotWithTicket(uint64_t ticket, SlotStage stage);
@@ -102,7 +103,8 @@ class Session final : public grpc::ServerBidiReactor<v1::TrackRequest, v1::Track
   std::unique_ptr<Odometry> odometry_;
   v1::OverloadPolicy policy_ = v1::OVERLOAD_POLICY_BLOCK;
   size_t queue_capacity_ = 0;
-  std::string client_name_;
+  std::string client_name_;  // for the log line only
+  uint64_t answered_ = 0;
   bool have_timestamp_ = false;
   double last_timestamp_ = 0;
 
