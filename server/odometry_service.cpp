@@ -1,5 +1,7 @@
 #include "odometry_service.hpp"
 
+#include <iostream>
+
 namespace nidevo::server {
 
 OdometryService::OdometryService(const ServerConfig& config, WorkerPool& pool,
@@ -18,7 +20,7 @@ OdometryService::~OdometryService() {
 }
 
 grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse>* OdometryService::Track(
-    grpc::CallbackServerContext* /*context*/) {
+    grpc::CallbackServerContext* context) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (draining_) {
     metrics_.sessionEnded(grpc::StatusCode::UNAVAILABLE);
@@ -26,6 +28,8 @@ grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse>* OdometryService::T
                                            "server is shutting down; use another replica"));
   }
   if (int(sessions_.size()) >= config_.max_sessions) {
+    std::cerr << "nidevo-server: session refused: at the limit of " << config_.max_sessions
+              << " sessions\n";
     metrics_.sessionEnded(grpc::StatusCode::RESOURCE_EXHAUSTED);
     return new RejectedStream(
         grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
@@ -37,7 +41,7 @@ grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse>* OdometryService::T
   env.pool = &pool_;
   env.metrics = &metrics_;
   env.on_done = [this](Session* s) { sessionDone(s); };
-  auto* session = new Session(std::move(env));
+  auto* session = new Session(context, std::move(env));
   sessions_.insert(session);
   metrics_.activeSessions(+1);
   return session;

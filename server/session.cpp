@@ -21,7 +21,8 @@ double secondsBetween(Clock::time_point a, Clock::time_point b) {
 
 }  // namespace
 
-Session::Session(SessionEnvironment env) : env_(std::move(env)), last_activity_(Clock::now()) {
+Session::Session(grpc::CallbackServerContext* context, SessionEnvironment env)
+    : context_(context), env_(std::move(env)), last_activity_(Clock::now()) {
   std::lock_guard<std::mutex> lock(mutex_);
   reading_ = true;
   StartRead(&read_msg_);
@@ -32,7 +33,11 @@ void Session::OnReadDone(bool ok) {
   reading_ = false;
   if (!ok) {
     read_closed_ = true;
-    maybeFinishOk();
+    // A failed read is a half-close, or a cancel whose OnCancel has not come yet.
+    if (context_->IsCancelled())
+      finish(grpc::Status(grpc::StatusCode::CANCELLED, "cancelled"));
+    else
+      maybeFinishOk();
     return;
   }
   const Clock::time_point now = Clock::now();
@@ -346,15 +351,13 @@ void Session::finish(grpc::Status status) {
 void Session::callFinish() {
   finish_called_ = true;
   env_.metrics->sessionEnded(finish_pending_->error_code());
-  if (finish_pending_->error_code() != grpc::StatusCode::CANCELLED || answered_ > 0) {
-    std::ostringstream line;  // one line per session, for operators; never per frame
-    line << "nidevo-server: session" << (client_name_.empty() ? "" : " '" + client_name_ + "'")
-         << " ended "
-         << absl::StatusCodeToString(static_cast<absl::StatusCode>(finish_pending_->error_code()))
-         << " after " << answered_ << " answers";
-    if (!finish_pending_->ok()) line << ": " << finish_pending_->error_message();
-    std::cerr << line.str() + "\n";
-  }
+  std::ostringstream line;  // one line per session, for operators; never per frame
+  line << "nidevo-server: session" << (client_name_.empty() ? "" : " '" + client_name_ + "'")
+       << " ended "
+       << absl::StatusCodeToString(static_cast<absl::StatusCode>(finish_pending_->error_code()))
+       << " after " << answered_ << " answers";
+  if (!finish_pending_->ok()) line << ": " << finish_pending_->error_message();
+  std::cerr << line.str() + "\n";
   Finish(*finish_pending_);
 }
 

@@ -35,7 +35,7 @@ struct SessionEnvironment {
 
 class Session final : public grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse> {
  public:
-  explicit Session(SessionEnvironment env);
+  Session(grpc::CallbackServerContext* context, SessionEnvironment env);
 
   void OnReadDone(bool ok) override;
   void OnWriteDone(bool ok) override;
@@ -87,6 +87,7 @@ class Session final : public grpc::ServerBidiReactor<v1::TrackRequest, v1::Track
   // Bookkeeping after any task; may delete the session, so the caller returns right after.
   void taskDone(std::unique_lock<std::mutex> lock);
 
+  grpc::CallbackServerContext* context_;
   SessionEnvironment env_;
   std::mutex mutex_;
   v1::TrackRequest read_msg_;

@@ -324,6 +324,66 @@ TEST(Service, LatestPolicyDropsOldFramesAndAnswersEveryOne) {
   EXPECT_EQ(responses.back().sequence(), uint64_t(sent - 1));  // the newest is always tracked
 }
 
+// Clients that misbehave in every way this test knows, all at once, next to one good session.
+TEST(Service, MisbehavingClientsDoNotHarmAnotherSession) {
+  ServerProcess server({"--max_sessions=6", "--idle_timeout_s=1"});
+  const TestSequence seq = renderOffice(30, 2);
+  StreamResult good;
+  std::thread good_thread([&] {
+    Client client(channelTo(server));
+    good = streamSequence(client, seq, parseFrameEncoding("raw-f32"));  // offline's exact frames
+  });
+  std::atomic<int> rounds{0};
+  std::vector<std::thread> troublemakers;
+  for (int k = 0; k < 4; ++k)
+    troublemakers.emplace_back([&, k] {
+      Client client(channelTo(server));
+      const FrameEncoding raw = parseFrameEncoding("raw");
+      for (int round = 0; round < 5; ++round) {
+        ++rounds;
+        if (k == 0) {  // a malformed first message
+          firstMessageStatus(server, v1::TrackRequest());
+          continue;
+        }
+        std::unique_ptr<client::Session> session;
+        try {
+          session = client.open(sessionFor(seq.camera, raw));
+        } catch (const std::exception&) {
+          continue;  // refused at the session limit: fine
+        }
+        v1::Frame frame;
+        client::encodeFrame(seq.frames[size_t(round)], 5000, raw, &frame);
+        if (k == 1) frame.mutable_depth()->resize(7);  // garbage frames
+        for (int i = 0; i < 3; ++i) {
+          frame.set_sequence(uint64_t(i));
+          frame.set_timestamp(round + i * 0.01);
+          if (!session->send(frame)) break;
+        }
+        if (k == 2) {
+          session->cancel();  // vanishes mid-stream
+        } else if (k == 3) {
+          v1::TrackResponse r;  // goes quiet until the idle timeout ends it
+          while (session->receive(&r)) {
+          }
+          session->finish();
+        } else {
+          session->finish();
+        }
+      }
+    });
+  for (auto& t : troublemakers) t.join();
+  good_thread.join();
+  EXPECT_EQ(rounds.load(), 20);
+  ASSERT_TRUE(good.status.ok()) << good.status.error_message();
+  expectSamePoses(good.responses, offlinePoses(seq));
+  Client client(channelTo(server));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (activeSessions(client) != 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_EQ(activeSessions(client), 0);
+  EXPECT_TRUE(server.running());
+}
+
 TEST(Service, HealthAndServerInfo) {
   ServerProcess server({"--max_sessions=7"});
   Client client(channelTo(server));
