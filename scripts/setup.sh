@@ -16,7 +16,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 if [ "${1:-}" = "--tests" ]; then
-  packages+=(prometheus python3-grpcio python3-grpc-tools docker-compose yamllint curl)
+  packages+=(prometheus python3-grpcio python3-grpc-tools docker-compose yamllint curl clang-format)
   # kubectl renders the kustomize manifests; Debian's (1.20) does if none is installed.
   command -v kubectl >/dev/null || packages+=(kubernetes-client)
 fi
