@@ -17,6 +17,19 @@ std::string sizeMismatch(const char* what, size_t got, size_t expected) {
          std::to_string(expected) + " for the session's image size";
 }
 
+Camera cameraOf(const v1::SessionConfig& config) {
+  const auto& c = config.camera();
+  Camera camera;
+  camera.fx = c.fx();
+  camera.fy = c.fy();
+  camera.cx = c.cx();
+  camera.cy = c.cy();
+  camera.width = int(c.width());
+  camera.height = int(c.height());
+  camera.depth_scale = config.depth_scale() > 0 ? config.depth_scale() : 1.0;  // unused for f32
+  return camera;
+}
+
 }  // namespace
 
 std::string FrameDecoder::validate(const v1::SessionConfig& config) {
@@ -36,29 +49,14 @@ std::string FrameDecoder::validate(const v1::SessionConfig& config) {
     return "config.depth_scale: must be positive for 16-bit depth";
   if (!v1::OverloadPolicy_IsValid(config.overload_policy()))
     return "config.overload_policy: unsupported value " + std::to_string(config.overload_policy());
-  Camera camera;
-  camera.fx = c.fx();
-  camera.fy = c.fy();
-  camera.cx = c.cx();
-  camera.cy = c.cy();
-  camera.width = int(c.width());
-  camera.height = int(c.height());
-  camera.depth_scale = config.depth_scale() > 0 ? config.depth_scale() : 1.0;
-  if (std::string e = camera.validate(); !e.empty()) return "config.camera: " + e;
+  if (std::string e = cameraOf(config).validate(); !e.empty()) return "config.camera: " + e;
   return "";
 }
 
 FrameDecoder::FrameDecoder(const v1::SessionConfig& config)
-    : color_encoding_(config.color_encoding()), depth_encoding_(config.depth_encoding()) {
-  const auto& c = config.camera();
-  camera_.fx = c.fx();
-  camera_.fy = c.fy();
-  camera_.cx = c.cx();
-  camera_.cy = c.cy();
-  camera_.width = int(c.width());
-  camera_.height = int(c.height());
-  camera_.depth_scale = config.depth_scale() > 0 ? config.depth_scale() : 1.0;
-}
+    : camera_(cameraOf(config)),
+      color_encoding_(config.color_encoding()),
+      depth_encoding_(config.depth_encoding()) {}
 
 std::string FrameDecoder::decode(const v1::Frame& frame, RgbdFrame* out) const {
   out->timestamp = frame.timestamp();

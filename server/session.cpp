@@ -85,7 +85,7 @@ void Session::configure(const v1::SessionConfig& config) {
                                                                    : v1::OVERLOAD_POLICY_BLOCK;
   client_name_ = config.client_name().substr(0, 64);
   // Building the odometry allocates every per-session buffer and FFTW plan: worker's job.
-  auto decoder = std::make_shared<FrameDecoder>(config);
+  auto decoder = std::make_shared<const FrameDecoder>(config);
   runTask([this, decoder] {
     std::unique_ptr<Odometry> odometry;
     std::string error;
@@ -98,7 +98,7 @@ void Session::configure(const v1::SessionConfig& config) {
     if (!error.empty()) {
       finish(grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, error));
     } else {
-      decoder_ = std::make_unique<FrameDecoder>(*decoder);
+      decoder_ = decoder;
       odometry_ = std::move(odometry);
       for (size_t i = 0; i < kSlots; ++i) slots_.push_back(std::make_unique<Slot>());
       configured_ = true;

@@ -100,7 +100,7 @@ class Session final : public grpc::ServerBidiReactor<v1::TrackRequest, v1::Track
   int tasks_in_flight_ = 0;
   Clock::time_point last_activity_;
 
-  std::unique_ptr<FrameDecoder> decoder_;
+  std::shared_ptr<const FrameDecoder> decoder_;
   std::unique_ptr<Odometry> odometry_;
   v1::OverloadPolicy policy_ = v1::OVERLOAD_POLICY_BLOCK;
   size_t queue_capacity_ = 0;
