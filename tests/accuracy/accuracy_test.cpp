@@ -76,7 +76,9 @@ TEST(Accuracy, CornerWithTwoPlanesIsTrackedThroughout) {
   const SequenceRun r = runSequence("corner", TextureRichness::kRich, SensorNoise::kNone);
   EXPECT_EQ(r.counts[int(TrackingState::kOk)], 300);
   for (const auto& p : r.poses) {
-    if (p.frame_index > 0) EXPECT_EQ(p.rotation_source, RotationSource::kPlanes);
+    if (p.frame_index > 0) {
+      EXPECT_EQ(p.rotation_source, RotationSource::kPlanes);
+    }
   }
   EXPECT_LE(r.ate_rmse, 0.01);
 }

@@ -22,7 +22,7 @@ synth::SequenceConfig officeConfig(int frames) {
 TEST(Odometry, RecoversAKnownTranslationBetweenTwoFrames) {
   const synth::SyntheticSequence seq(officeConfig(1));
   const Eigen::Isometry3d T0 = seq.groundTruth(0);
-  for (const Eigen::Vector3d d :
+  for (const Eigen::Vector3d& d :
        {Eigen::Vector3d(0.05, 0, 0), Eigen::Vector3d(0, -0.04, 0), Eigen::Vector3d(0, 0, 0.06),
         Eigen::Vector3d(0.02, -0.03, 0.04)}) {
     Odometry odometry(seq.config().camera, OdometryConfig{});

@@ -30,10 +30,14 @@ class NormalMapBuilder {
                NormalMap* out);
 
  private:
-  std::vector<Eigen::Vector4f> raw_;  // xyz normal + 1 where valid, 0 elsewhere
-  std::vector<Eigen::Vector4f> tmp_;  // horizontal box sums
-  std::vector<Eigen::Vector4f> column_sums_;
-  std::vector<float> ray_x_, ray_y_;  // (u - cx) / fx per column, (v - cy) / fy per row
+  // Planes of floats (one per component) rather than Vector3f, so that the per-pixel loops
+  // vectorise; each holds one value per map pixel.
+  std::vector<float> z_;             // depth, 0 where missing
+  std::vector<float> nx_, ny_, nz_;  // Eq. 4 normal, then (after the box filter) the smoothed
+  std::vector<uint8_t> has_normal_;  // Eq. 4 gave a normal
+  std::vector<float> hx_, hy_, hz_;  // horizontal box sums
+  std::vector<float> sum_x_, sum_y_, sum_z_;  // vertical running sums, one per column
+  std::vector<float> ray_x_, ray_y_;          // (u - cx) / fx per column, (v - cy) / fy per row
 };
 
 }  // namespace nidevo

@@ -56,7 +56,9 @@ TEST(FrameCodec, EveryEncodingRoundTrips) {
           std::max(max_gray_error, std::abs(double(in.gray.data[i]) - out.gray.data[i]));
       max_depth_error =
           std::max(max_depth_error, std::abs(double(in.depth.data[i]) - out.depth.data[i]));
-      if (in.depth.data[i] == 0.f) EXPECT_EQ(out.depth.data[i], 0.f);
+      if (in.depth.data[i] == 0.f) {
+        EXPECT_EQ(out.depth.data[i], 0.f);
+      }
     }
     // JPEG is lossy on this busy pattern; everything else is exact up to the 1/5000 m step.
     EXPECT_LE(max_gray_error, std::string(name) == "jpeg" ? 40.0 : 0.0);
