@@ -138,7 +138,7 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
                             config_.crease_dot, &s->normals);
   const int stride = config_.projection_stride;
   const int W = camera_.width / stride, H = camera_.height / stride;
-  s->points.resize(size_t(W) * size_t(H));
+  for (auto* plane : {&s->cloud_x, &s->cloud_y, &s->cloud_z}) plane->resize(size_t(W) * size_t(H));
   s->intensity.resize(size_t(W) * size_t(H));
   int valid = 0;
   for (int v = 0; v < H; ++v) {
@@ -150,7 +150,9 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
       if (!(z >= config_.min_depth_m && z <= config_.max_depth_m)) z = 0.f;
       valid += z > 0.f;
       const size_t i = size_t(v) * size_t(W) + size_t(u);
-      s->points[i] = Eigen::Vector3f(ray_x_[size_t(u)] * z, ry * z, z);
+      s->cloud_x[i] = ray_x_[size_t(u)] * z;
+      s->cloud_y[i] = ry * z;
+      s->cloud_z[i] = z;
       s->intensity[i] = float(gray_row[u * stride]) * (1.f / 255.f);
     }
   }
@@ -231,15 +233,16 @@ void Odometry::estimateRotation(FrameState* s) {
 }
 
 CloudView Odometry::projectionCloud(const FrameState& s) const {
-  return {s.points.data(), s.intensity.data(), s.points.size(), point_weight_.data()};
+  return {s.cloud_x.data(),   s.cloud_y.data(), s.cloud_z.data(),
+          s.intensity.data(), s.cloud_z.size(), point_weight_.data()};
 }
 
 // Both the keyframe and the current frame go through the same projection, so that their images
 // differ only by the motion.
 void Odometry::projectForCorrelation(const CloudView& cloud, const Eigen::Matrix3f& R,
                                      OrthoImage* image) const {
-  OrthoProjector::project(cloud, R, trans_->resolution, config_.projection_width,
-                          config_.projection_height, image);
+  trans_->projector.project(cloud, R, trans_->resolution, config_.projection_width,
+                            config_.projection_height, image);
   trans_->projector.fillGaps(image, config_.projection_fill_gap, config_.depth_discontinuity);
   if (config_.projection_flatten_outline) OrthoProjector::flattenOutline(image);
 }

@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <random>
 
 #include "nidevo/depth_shift.hpp"
 #include "nidevo/ortho_projection.hpp"
@@ -55,39 +59,150 @@ TEST(DepthShift, IgnoresOutliersAndReportsNoMatchOnEmptyImages) {
   EXPECT_EQ(estimator.estimate(key, empty, 0, 0, params).inliers, 0);
 }
 
+// A cloud held as the projector takes it: one array per coordinate.
+struct TestCloud {
+  std::vector<float> x, y, z, gray;
+  void add(float px, float py, float pz, float g) {
+    x.push_back(px), y.push_back(py), z.push_back(pz), gray.push_back(g);
+  }
+  CloudView view() const { return {x.data(), y.data(), z.data(), gray.data(), z.size()}; }
+};
+
 TEST(OrthoProjection, ResolutionKeepsTheRequestedFractionInside) {
-  std::vector<Eigen::Vector3f> points;
-  std::vector<float> gray;
+  TestCloud cloud;
   for (int i = -50; i <= 50; ++i)
-    for (int j = -50; j <= 50; ++j) {
-      points.emplace_back(i * 0.02f, j * 0.01f, 2.f);
-      gray.push_back(0.3f);
-    }
+    for (int j = -50; j <= 50; ++j) cloud.add(i * 0.02f, j * 0.01f, 2.f, 0.3f);
   OrthoProjector projector;
-  const CloudView cloud{points.data(), gray.data(), points.size()};
-  const double r = projector.resolutionFor(cloud, Eigen::Matrix3f::Identity(), 80, 60, 0.8);
+  const double r = projector.resolutionFor(cloud.view(), Eigen::Matrix3f::Identity(), 80, 60, 0.8);
   OrthoImage img;
-  OrthoProjector::project(cloud, Eigen::Matrix3f::Identity(), r, 80, 60, &img);
+  projector.project(cloud.view(), Eigen::Matrix3f::Identity(), r, 80, 60, &img);
   size_t inside = 0;
-  for (const auto& p : points) {
-    const double u = p.x() / r + 40, v = p.y() / r + 30;
+  for (size_t i = 0; i < cloud.z.size(); ++i) {
+    const double u = cloud.x[i] / r + 40, v = cloud.y[i] / r + 30;
     inside += u >= 0 && u < 80 && v >= 0 && v < 60;
   }
-  EXPECT_NEAR(double(inside) / double(points.size()), 0.8, 0.03);
+  EXPECT_NEAR(double(inside) / double(cloud.z.size()), 0.8, 0.03);
 }
 
 TEST(OrthoProjection, NearestPointWinsAndEmptyCellsAreMarked) {
-  const std::vector<Eigen::Vector3f> points = {{0.f, 0.f, 3.f}, {0.f, 0.f, 2.f}, {0.f, 0.f, 4.f}};
-  const std::vector<float> gray = {0.1f, 0.7f, 0.9f};
+  TestCloud cloud;
+  cloud.add(0.f, 0.f, 3.f, 0.1f);
+  cloud.add(0.f, 0.f, 2.f, 0.7f);
+  cloud.add(0.f, 0.f, 4.f, 0.9f);
   OrthoImage img;
-  OrthoProjector::project({points.data(), gray.data(), points.size()}, Eigen::Matrix3f::Identity(),
-                          0.01, 20, 20, &img);
+  OrthoProjector projector;
+  projector.project(cloud.view(), Eigen::Matrix3f::Identity(), 0.01, 20, 20, &img);
   const size_t centre = 10 * 20 + 10;
   EXPECT_FLOAT_EQ(img.depth[centre], 2.f);
   EXPECT_FLOAT_EQ(img.gray[centre], 0.7f);
   EXPECT_EQ(img.filledCount(), 1);
   EXPECT_FLOAT_EQ(img.gray[0], 0.5f);
   EXPECT_FLOAT_EQ(img.depth[0], 0.f);
+}
+
+// The projector's loops are written for the vectoriser; this is Eq. 3 and the resolution
+// quantile written plainly with Eigen and std::nth_element. The two must agree bit for bit.
+TEST(OrthoProjection, EqualsThePlainPerPointComputationBitForBit) {
+  TestCloud cloud;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> xy(-2.f, 2.f), depth(0.3f, 5.f), unit(0.f, 1.f);
+  for (int i = 0; i < 20000; ++i) {
+    const float z = i % 17 == 0 ? 0.f : depth(rng);  // some points without depth
+    cloud.add(xy(rng) * z, xy(rng) * z, z, unit(rng));
+  }
+  const Eigen::Matrix3f R =
+      Eigen::AngleAxisf(0.4f, Eigen::Vector3f(0.3f, -1.f, 0.2f).normalized()).toRotationMatrix();
+  const int W = 64, H = 48;
+  OrthoProjector projector;
+  const double r = projector.resolutionFor(cloud.view(), R, W, H, 0.8);
+  OrthoImage fast;
+  projector.project(cloud.view(), R, r, W, H, &fast);
+
+  std::vector<float> extent;
+  for (size_t i = 0; i < cloud.z.size(); ++i) {
+    if (cloud.z[i] <= 0.f) continue;
+    const Eigen::Vector3f p = R * Eigen::Vector3f(cloud.x[i], cloud.y[i], cloud.z[i]);
+    extent.push_back(std::max(std::abs(p.x()) * (2.f / W), std::abs(p.y()) * (2.f / H)));
+  }
+  const size_t q = size_t(std::ceil(0.8 * double(extent.size()))) - 1;
+  std::nth_element(extent.begin(), extent.begin() + long(q), extent.end());
+  EXPECT_EQ(r, double(extent[q]));
+
+  std::vector<float> depth_buffer(size_t(W * H), std::numeric_limits<float>::infinity());
+  std::vector<float> gray(size_t(W * H), 0.5f);
+  const float inv_r = float(1.0 / r);
+  for (size_t i = 0; i < cloud.z.size(); ++i) {
+    if (cloud.z[i] <= 0.f) continue;
+    const Eigen::Vector3f p = R * Eigen::Vector3f(cloud.x[i], cloud.y[i], cloud.z[i]);
+    const int u = int(std::floor(p.x() * inv_r + W / 2.f)),
+              v = int(std::floor(p.y() * inv_r + H / 2.f));
+    if (u < 0 || v < 0 || u >= W || v >= H || p.z() <= 0.f) continue;
+    if (p.z() < depth_buffer[size_t(v * W + u)]) {
+      depth_buffer[size_t(v * W + u)] = p.z();
+      gray[size_t(v * W + u)] = cloud.gray[i];
+    }
+  }
+  int differing = 0, filled = 0;
+  for (size_t c = 0; c < depth_buffer.size(); ++c) {
+    const float d = std::isinf(depth_buffer[c]) ? 0.f : depth_buffer[c];
+    filled += d > 0.f;
+    differing += fast.depth[c] != d || fast.gray[c] != gray[c];
+  }
+  EXPECT_GT(filled, W * H / 2);
+  EXPECT_EQ(differing, 0);
+}
+
+// Gap filling as first written: every cell in turn along rows, then along columns, remembering
+// the last filled cell. The projector's run-by-run version must give the same image.
+void referenceFillGaps(OrthoImage* img, int max_gap, float jump) {
+  const int W = img->width, H = img->height;
+  auto line = [&](size_t start, size_t stride, int count) {
+    int last = -1;
+    for (int i = 0; i < count; ++i) {
+      const size_t c = start + size_t(i) * stride;
+      if (img->depth[c] <= 0.f) continue;
+      const int gap = i - last - 1;
+      if (last >= 0 && gap > 0 && gap <= max_gap) {
+        const size_t c0 = start + size_t(last) * stride;
+        const float z0 = img->depth[c0], z1 = img->depth[c];
+        if (std::abs(z1 - z0) <= jump * std::min(z0, z1)) {
+          for (int k = last + 1; k < i; ++k) {
+            const float t = float(k - last) / float(i - last);
+            const size_t ck = start + size_t(k) * stride;
+            img->depth[ck] = z0 + t * (z1 - z0);
+            img->gray[ck] = img->gray[c0] + t * (img->gray[c] - img->gray[c0]);
+            img->weight[ck] = img->weight[c0] + t * (img->weight[c] - img->weight[c0]);
+          }
+        }
+      }
+      last = i;
+    }
+  };
+  for (int v = 0; v < H; ++v) line(size_t(v) * W, 1, W);
+  for (int u = 0; u < W; ++u) line(size_t(u), size_t(W), H);
+}
+
+TEST(OrthoProjection, GapFillingEqualsTheCellByCellComputation) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  OrthoImage img;
+  img.resize(67, 41);
+  for (size_t c = 0; c < img.depth.size(); ++c) {
+    // Two surfaces (a depth step at u = 30), with holes of every length up to 4.
+    const int u = int(c % 67);
+    img.depth[c] = unit(rng) < 0.35f ? 0.f : (u < 30 ? 2.f : 2.5f) + 0.01f * unit(rng);
+    img.gray[c] = unit(rng);
+    img.weight[c] = unit(rng);
+  }
+  OrthoImage expected = img;
+  const int filled_before = img.filledCount();
+  OrthoProjector projector;
+  projector.fillGaps(&img, 2, 0.05f);
+  referenceFillGaps(&expected, 2, 0.05f);
+  EXPECT_GT(img.filledCount(), filled_before + 100);
+  EXPECT_EQ(img.depth, expected.depth);
+  EXPECT_EQ(img.gray, expected.gray);
+  EXPECT_EQ(img.weight, expected.weight);
 }
 
 TEST(OrthoProjection, GapsAreFilledWithinASurfaceOnly) {

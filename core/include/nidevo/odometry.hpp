@@ -59,8 +59,9 @@ struct FrameState {
   bool depth_ok = false;
   NormalMap normals;
   NormalMapBuilder normal_builder;
-  std::vector<Eigen::Vector3f> points;  // projection cloud (camera frame), z = 0 if missing
-  std::vector<float> intensity;         // [0, 1]
+  // Projection cloud (camera frame), one plane per coordinate; z = 0 where depth is missing.
+  std::vector<float> cloud_x, cloud_y, cloud_z;
+  std::vector<float> intensity;  // [0, 1]
   // Stage 2 output.
   Eigen::Matrix3d R_world_cam = Eigen::Matrix3d::Identity();
   RotationSource rotation_source = RotationSource::kInitial;

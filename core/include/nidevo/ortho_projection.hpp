@@ -4,11 +4,15 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "nidevo/selection.hpp"
+
 namespace nidevo {
 
 // Input cloud: points with z > 0 are valid; intensity in [0, 1] per point.
 struct CloudView {
-  const Eigen::Vector3f* points = nullptr;
+  const float* x = nullptr;  // coordinates, one array each
+  const float* y = nullptr;
+  const float* z = nullptr;
   const float* intensity = nullptr;
   size_t size = 0;
   const float* weight = nullptr;  // per point contrast weight in [0, 1]; nullptr: all 1
@@ -31,8 +35,8 @@ class OrthoProjector {
   double resolutionFor(const CloudView& cloud, const Eigen::Matrix3f& R, int width, int height,
                        double inlier_fraction);
   // Projects R * p for every valid p. Reuses `out`'s buffers.
-  static void project(const CloudView& cloud, const Eigen::Matrix3f& R, double resolution,
-                      int width, int height, OrthoImage* out);
+  void project(const CloudView& cloud, const Eigen::Matrix3f& R, double resolution, int width,
+               int height, OrthoImage* out);
   // Fills runs of at most max_gap empty cells, first along rows then along columns, by linear
   // interpolation when the cells on both sides lie on one surface (depths within
   // relative_depth_jump). A slanted surface spreads its points apart in the projection; left
@@ -45,7 +49,11 @@ class OrthoProjector {
 
  private:
   std::vector<float> scratch_;
-  std::vector<int> column_last_;  // fillGaps: last filled row of each column
+  KthSmallest kth_smallest_;
+  std::vector<int> cell_;          // project: each point's cell, -1 if none
+  std::vector<float> cell_depth_;  // project: each point's depth along the projection axis
+  std::vector<int> column_last_;   // fillGaps: last filled row of each column
+  std::vector<int> column_from_;   // fillGaps: per column, the row before a gap ending here, or -1
 };
 
 }  // namespace nidevo
