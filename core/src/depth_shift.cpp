@@ -43,8 +43,7 @@ DepthShift DepthShiftEstimator::estimate(const OrthoImage& key, const OrthoImage
   if (n == 0) return r;
   // Start from the median, then refine with the mean of the inliers around it.
   scratch_.assign(diffs_.begin(), diffs_.begin() + long(n));
-  std::nth_element(scratch_.begin(), scratch_.begin() + long(n / 2), scratch_.end());
-  double dz = scratch_[n / 2];
+  double dz = kth_smallest_(scratch_.data(), n, n / 2);
   int inliers = 0;
   for (int it = 0; it < p.iterations; ++it) {
     double sum = 0;

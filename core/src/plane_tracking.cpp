@@ -50,9 +50,7 @@ Eigen::Vector3f PlaneTracker::medianNormal(const NormalMap& map, const int* pixe
   Eigen::Vector3f r;
   for (int c = 0; c < 3; ++c) {
     for (size_t k = 0; k < count; ++k) scratch_[k] = map.normal[size_t(pixels[k])][c];
-    std::nth_element(scratch_.begin(), scratch_.begin() + long(count / 2),
-                     scratch_.begin() + long(count));
-    r[c] = scratch_[count / 2];
+    r[c] = kth_smallest_(scratch_.data(), count, count / 2);
   }
   return r.normalized();
 }
@@ -100,9 +98,8 @@ PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, i
                    std::abs(pc.normal.dot(cur.points[i] - pc.centroid)) / cur.points[i].z());
     }
     std::copy(scratch_.begin(), scratch_.begin() + long(count), residual_.begin());
-    std::nth_element(residual_.begin(), residual_.begin() + long(count / 2),
-                     residual_.begin() + long(count));
-    const float limit = std::max(3.f * 1.4826f * residual_[count / 2], 1e-4f);
+    const float median = kth_smallest_(residual_.data(), count, count / 2);
+    const float limit = std::max(3.f * 1.4826f * median, 1e-4f);
     kept = 0;
     for (size_t k = 0; k < count; ++k)
       if (scratch_[k] <= limit) pixels[kept++] = pixels[k];

@@ -34,6 +34,7 @@ class DepthShiftEstimator {
  private:
   std::vector<float> diffs_;
   std::vector<float> scratch_;
+  KthSmallest kth_smallest_;
 };
 
 }  // namespace nidevo

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "nidevo/normal_map.hpp"
+#include "nidevo/selection.hpp"
 
 namespace nidevo {
 
@@ -54,6 +55,7 @@ class PlaneTracker {
   std::vector<Eigen::Vector3f> seeds_;
   std::vector<int> counts_, offsets_;
   std::vector<float> scratch_, residual_;
+  KthSmallest kth_smallest_;
   std::vector<int> histogram_;
 };
 
