@@ -78,6 +78,7 @@ void projectionCells(const float* __restrict x, const float* __restrict y,
 double OrthoProjector::resolutionFor(const CloudView& cloud, const Eigen::Matrix3f& R, int width,
                                      int height, double inlier_fraction) {
   scratch_.resize(cloud.size);
+  kth_smallest_.reserve(cloud.size);
   halfExtents(cloud.x, cloud.y, cloud.z, cloud.size, Rotation(R), 2.f / float(width),
               2.f / float(height), scratch_.data());
   size_t k = 0;

@@ -120,6 +120,7 @@ void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const Plane
   members_.resize(n);
   scratch_.resize(n);
   residual_.resize(n);
+  kth_smallest_.reserve(n);
   seeds_.resize(size_t(p.max_modes));
   counts_.assign(size_t(p.max_modes) + 1, 0);
   out->overlap_pixels = 0;

@@ -5,6 +5,11 @@
 
 namespace nidevo {
 
+void KthSmallest::reserve(size_t n) {
+  sample_.reserve(n / 16 + 1);
+  band_.reserve(n);
+}
+
 float KthSmallest::operator()(float* values, size_t n, size_t k) {
   // Below this size one nth_element is as fast as the bracketing.
   constexpr size_t kDirect = 4096;

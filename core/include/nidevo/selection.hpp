@@ -12,6 +12,8 @@ class KthSmallest {
   // The value of rank k (0-based, ascending) among values[0, n); k < n, no NaN. The array may be
   // reordered. Reuses its buffers: no allocation once they have grown.
   float operator()(float* values, size_t n, size_t k);
+  // Grows the buffers for arrays of up to n values now, so that later calls do not allocate.
+  void reserve(size_t n);
 
  private:
   std::vector<float> sample_;
