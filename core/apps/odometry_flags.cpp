@@ -37,7 +37,7 @@ ABSL_FLAG(bool, subpixel, kDefaults.subpixel_peak, "Sub-pixel refinement of the 
 ABSL_FLAG(int, rotation_keyframe_interval, kDefaults.rotation_keyframe_interval,
           "Renew the rotation keyframe at least every this many frames");
 ABSL_FLAG(double, psr_bound, kDefaults.psr_bound,
-          "Translation keyframe renewed at or below this PSR");
+          "Translation keyframe renewed at or below this PSR (paper: 50)");
 
 namespace nidevo::cli {
 

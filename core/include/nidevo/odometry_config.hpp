@@ -56,9 +56,9 @@ struct OdometryConfig {
   // FFTW_MEASURE planning: maybe a little faster, but the plan (and so the last bits of every
   // pose) can differ between processes. Off: the same frames give the same poses everywhere.
   bool fft_measure = false;
-  int psr_exclusion = 5;              // side lobe excludes (2n+1)^2 around the peak
-  float psr_bound = 50.0f;            // translation keyframe renewed at or below (authors)
-  float psr_min = 8.0f;               // below: the KCC match is not trusted
+  int psr_exclusion = 5;    // side lobe excludes (2n+1)^2 around the peak
+  float psr_bound = 30.0f;  // translation keyframe renewed at or below; paper: 50 (README: seeds)
+  float psr_min = 8.0f;     // below: the KCC match is not trusted
   float depth_gray_tolerance = 0.1f;  // Eq. 18 inlier test on intensity
   float depth_inlier_m = 0.1f;        // Eq. 18 inlier test on the depth difference
   int depth_iterations = 3;
