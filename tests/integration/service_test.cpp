@@ -416,6 +416,12 @@ TEST(Service, SigtermDrainsOpenStreamsAndReportsNotServing) {
     frame.set_sequence(i);
     ASSERT_TRUE(session->send(frame));
   }
+  // Until the server answers, the stream may still sit in gRPC's buffers, not yet a session (a
+  // slow sanitizer build showed that race); once answered, it is an open stream to drain.
+  const auto answered_by = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (answered.load() < 5 && std::chrono::steady_clock::now() < answered_by)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_EQ(answered.load(), 5);
   server.signal(SIGTERM);
   bool serving = true;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
@@ -441,8 +447,13 @@ TEST(Service, DrainDeadlineCancelsStreamsThatDoNotFinish) {
   ServerProcess server({"--drain_timeout_s=1"});
   Client client(channelTo(server));
   auto session = client.open(sessionFor(office().camera, parseFrameEncoding("raw")));
-  bool serving = false;
-  ASSERT_TRUE(client.health("", &serving).ok());
+  // The stream counts as open once the server has made it a session.
+  v1::ServerInfo info;
+  const auto registered_by = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while ((!client.serverInfo(&info).ok() || info.active_sessions() < 1) &&
+         std::chrono::steady_clock::now() < registered_by)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_EQ(info.active_sessions(), 1u);
   const auto start = std::chrono::steady_clock::now();
   server.signal(SIGTERM);
   EXPECT_EQ(server.waitExit(15), 0);
