@@ -27,14 +27,21 @@ struct Plane {
 // Least-squares plane through the points of `pixels`, its normal on the side of the smoothed
 // normals (towards the camera).
 Plane fitPlane(const NormalMap& map, const int* pixels, size_t count) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), mean_normal = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  // Plain scalar sums (the outer product's 6 distinct entries; x*y == y*x exactly): Eigen's
+  // Matrix3d accumulator lived on the stack, one store-to-load round trip per pixel.
+  double sx = 0, sy = 0, sz = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+  double nx = 0, ny = 0, nz = 0;
   for (size_t k = 0; k < count; ++k) {
-    const Eigen::Vector3d q = map.points[size_t(pixels[k])].cast<double>();
-    sum += q;
-    outer += q * q.transpose();
-    mean_normal += map.normal[size_t(pixels[k])].cast<double>();
+    const Eigen::Vector3f& p = map.points[size_t(pixels[k])];
+    const Eigen::Vector3f& n = map.normal[size_t(pixels[k])];
+    const double x = p.x(), y = p.y(), z = p.z();
+    sx += x, sy += y, sz += z;
+    xx += x * x, xy += x * y, xz += x * z, yy += y * y, yz += y * z, zz += z * z;
+    nx += double(n.x()), ny += double(n.y()), nz += double(n.z());
   }
+  const Eigen::Vector3d sum(sx, sy, sz), mean_normal(nx, ny, nz);
+  Eigen::Matrix3d outer;
+  outer << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   const Eigen::Vector3d centroid = sum / double(count);
   const Eigen::Matrix3d cov = outer / double(count) - centroid * centroid.transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
