@@ -12,12 +12,14 @@ namespace nidevo {
 namespace {
 
 // Eq. 4 by central differences on the points (ray * z) of rows top, centre and bottom. A pixel
-// without depth, a missing neighbour or a depth jump leaves no normal (0 and has = 0).
+// without depth, a missing neighbour or a depth jump leaves no normal (0 and has = 0), and so do
+// the first and last pixels, which lack a neighbour.
 void centralDifferencesRow(const float* __restrict z_top, const float* __restrict z_mid,
                            const float* __restrict z_bot, const float* __restrict ray_x,
                            float ray_y_top, float ray_y, float ray_y_bot, int width,
                            float depth_discontinuity, float* __restrict nx, float* __restrict ny,
                            float* __restrict nz, uint8_t* __restrict has) {
+  for (int u : {0, width - 1}) nx[u] = ny[u] = nz[u] = 0.f, has[u] = 0;
   for (int u = 1; u < width - 1; ++u) {
     const float z0 = z_mid[u], zl = z_mid[u - 1], zr = z_mid[u + 1], zt = z_top[u], zb = z_bot[u];
     const float jump = depth_discontinuity * z0;
@@ -157,10 +159,13 @@ void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, i
     }
   }
 
-  std::fill(nx_.begin(), nx_.end(), 0.f);
-  std::fill(ny_.begin(), ny_.end(), 0.f);
-  std::fill(nz_.begin(), nz_.end(), 0.f);
-  std::fill(has_normal_.begin(), has_normal_.end(), uint8_t(0));
+  // The first and last rows lack a neighbour: no normal there.
+  for (int v : {0, H - 1}) {
+    std::fill_n(at(nx_, v), W, 0.f);
+    std::fill_n(at(ny_, v), W, 0.f);
+    std::fill_n(at(nz_, v), W, 0.f);
+    std::fill_n(&has_normal_[size_t(v) * W], W, uint8_t(0));
+  }
   for (int v = 1; v < H - 1; ++v) {
     centralDifferencesRow(at(z_, v - 1), at(z_, v), at(z_, v + 1), ray_x_.data(),
                           ray_y_[size_t(v - 1)], ray_y_[size_t(v)], ray_y_[size_t(v + 1)], W,

@@ -22,6 +22,8 @@ int OrthoImage::filledCount() const {
 
 namespace {
 
+// R p row by row, in Eigen's order of operations (r0 x + (r1 y + r2 z)), which keeps the results
+// those of Matrix3f * Vector3f.
 struct Rotation {
   float r00, r01, r02, r10, r11, r12, r20, r21, r22;
   explicit Rotation(const Eigen::Matrix3f& R)
@@ -34,19 +36,20 @@ struct Rotation {
         r20(R(2, 0)),
         r21(R(2, 1)),
         r22(R(2, 2)) {}
+  float x(float px, float py, float pz) const { return r00 * px + (r01 * py + r02 * pz); }
+  float y(float px, float py, float pz) const { return r10 * px + (r11 * py + r12 * pz); }
+  float z(float px, float py, float pz) const { return r20 * px + (r21 * py + r22 * pz); }
 };
 
 // The loops below run on restrict pointers and select with masks (no branches), so that they
-// vectorise. R p is computed in Eigen's order of operations (r0 x + (r1 y + r2 z)), which keeps
-// the results those of Matrix3f * Vector3f.
+// vectorise.
 
 // Per point, the half-extent max(|x| 2/W, |y| 2/H) of R p in units of the image's half-size,
 // or infinity for a point without depth (those sort after every valid one).
 void halfExtents(const float* __restrict x, const float* __restrict y, const float* __restrict z,
                  size_t n, const Rotation& R, float sx, float sy, float* __restrict extent) {
   for (size_t i = 0; i < n; ++i) {
-    const float px = R.r00 * x[i] + (R.r01 * y[i] + R.r02 * z[i]);
-    const float py = R.r10 * x[i] + (R.r11 * y[i] + R.r12 * z[i]);
+    const float px = R.x(x[i], y[i], z[i]), py = R.y(x[i], y[i], z[i]);
     const float e = std::max(std::abs(px) * sx, std::abs(py) * sy);
     extent[i] = z[i] > 0.f ? e : std::numeric_limits<float>::infinity();
   }
@@ -61,9 +64,7 @@ void projectionCells(const float* __restrict x, const float* __restrict y,
   const float half_w = float(width) / 2, half_h = float(height) / 2;
   const float fw = float(width), fh = float(height);
   for (size_t i = 0; i < n; ++i) {
-    const float px = R.r00 * x[i] + (R.r01 * y[i] + R.r02 * z[i]);
-    const float py = R.r10 * x[i] + (R.r11 * y[i] + R.r12 * z[i]);
-    const float pz = R.r20 * x[i] + (R.r21 * y[i] + R.r22 * z[i]);
+    const float px = R.x(x[i], y[i], z[i]), py = R.y(x[i], y[i], z[i]), pz = R.z(x[i], y[i], z[i]);
     const float fu = px * inv_r + half_w, fv = py * inv_r + half_h;
     const bool inside =
         (z[i] > 0.f) & (pz > 0.f) & (fu >= 0.f) & (fu < fw) & (fv >= 0.f) & (fv < fh);
