@@ -1,11 +1,13 @@
 #include "client_flags.hpp"
 
 #include "absl/flags/flag.h"
+#include "nidevo/cli/cli.hpp"
 
 namespace {
 const nidevo::client::ChannelOptions kDefaults;
 }
 
+NIDEVO_FLAG_HEADING("Connection and session (every command)");
 ABSL_FLAG(std::string, target, kDefaults.target, "Server address host:port (any gRPC target)");
 ABSL_FLAG(bool, tls, kDefaults.tls, "Connect with TLS");
 ABSL_FLAG(std::string, ca_file, "", "PEM CA certificates for --tls (default: the system's)");

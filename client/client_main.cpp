@@ -2,8 +2,8 @@
 #include <iostream>
 #include <string>
 
-#include "cli.hpp"
 #include "commands.hpp"
+#include "nidevo/cli/cli.hpp"
 
 int main(int argc, char** argv) {
   const auto args = nidevo::cli::init(

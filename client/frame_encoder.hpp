@@ -2,7 +2,7 @@
 // Encodes the core's RgbdFrame (grey + metric depth) for the wire in any nidevo.v1 encoding.
 #include <string>
 
-#include "nidevo/image.hpp"
+#include "nidevo/odometry/image.hpp"
 #include "nidevo/v1/odometry.pb.h"
 
 namespace nidevo::client {

@@ -9,10 +9,12 @@
 #include "client_flags.hpp"
 #include "commands.hpp"
 #include "frame_encoder.hpp"
-#include "frame_loader.hpp"
 #include "load_test.hpp"
-#include "sequence_flags.hpp"
+#include "nidevo/cli/cli.hpp"
+#include "nidevo/loader/frame_loader.hpp"
+#include "nidevo/loader/sequence_flags.hpp"
 
+NIDEVO_FLAG_HEADING("load");
 ABSL_FLAG(std::string, sessions, "1", "load: concurrent sessions; a list (1,2,4,8) sweeps");
 ABSL_FLAG(double, session_rate, 30, "load: frames per second per session (0: as fast as possible)");
 ABSL_FLAG(double, warmup_s, 2, "load: seconds before the measurement window");

@@ -10,7 +10,7 @@
 #include <string>
 #include <thread>
 
-#include "nidevo/camera.hpp"
+#include "nidevo/odometry/camera.hpp"
 #include "nidevo/v1/odometry.grpc.pb.h"
 
 namespace nidevo::client {

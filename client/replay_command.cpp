@@ -12,11 +12,13 @@
 #include "absl/flags/flag.h"
 #include "client_flags.hpp"
 #include "commands.hpp"
-#include "evaluation_report.hpp"
 #include "frame_encoder.hpp"
-#include "frame_loader.hpp"
-#include "sequence_flags.hpp"
+#include "nidevo/cli/cli.hpp"
+#include "nidevo/eval/evaluation_report.hpp"
+#include "nidevo/loader/frame_loader.hpp"
+#include "nidevo/loader/sequence_flags.hpp"
 
+NIDEVO_FLAG_HEADING("replay");
 ABSL_FLAG(double, rate, 0,
           "Frames per second to send (0: as fast as the server takes them; see --pace)");
 ABSL_FLAG(bool, pace, false, "Send at the sequence's recorded timestamps (real time)");

@@ -5,7 +5,9 @@
 #include "absl/flags/flag.h"
 #include "client_flags.hpp"
 #include "commands.hpp"
+#include "nidevo/cli/cli.hpp"
 
+NIDEVO_FLAG_HEADING("info and health");
 ABSL_FLAG(std::string, service, "nidevo.v1.OdometryService",
           "health: service name to check (empty: the whole server)");
 

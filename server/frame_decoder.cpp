@@ -6,6 +6,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "nidevo/io/frame_conversion.hpp"
+
 namespace nidevo::server {
 
 namespace {
@@ -15,6 +17,16 @@ constexpr uint32_t kMaxSide = 8192;
 std::string sizeMismatch(const char* what, size_t got, size_t expected) {
   return std::string(what) + ": " + std::to_string(got) + " bytes, expected " +
          std::to_string(expected) + " for the session's image size";
+}
+
+// Empty when the bytes are not an image OpenCV can decode.
+cv::Mat decodeImage(const std::string& bytes, int flags) {
+  try {
+    return cv::imdecode(cv::Mat(1, int(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),
+                        flags);
+  } catch (const cv::Exception&) {
+    return {};
+  }
 }
 
 Camera cameraOf(const v1::SessionConfig& config) {
@@ -67,69 +79,51 @@ std::string FrameDecoder::decode(const v1::Frame& frame, RgbdFrame* out) const {
 std::string FrameDecoder::decodeColor(const std::string& bytes, GrayImage* gray) const {
   const int w = camera_.width, h = camera_.height;
   const size_t pixels = size_t(w) * size_t(h);
-  if (gray->width != w || gray->height != h) gray->resize(w, h);
-  cv::Mat dst(h, w, CV_8UC1, gray->data.data());
-  auto* data = const_cast<char*>(bytes.data());  // OpenCV headers over the message's bytes
+  const auto* data = reinterpret_cast<const uint8_t*>(bytes.data());
+  std::string error;
   switch (color_encoding_) {
     case v1::COLOR_ENCODING_GRAY8:
       if (bytes.size() != pixels) return sizeMismatch("frame.color", bytes.size(), pixels);
-      std::memcpy(gray->data.data(), bytes.data(), pixels);
-      return "";
+      error = grayFrom8Bit(data, w, h, 1, size_t(w), ChannelOrder::kBgr, gray);
+      break;
     case v1::COLOR_ENCODING_RGB8:
     case v1::COLOR_ENCODING_BGR8: {
       if (bytes.size() != 3 * pixels) return sizeMismatch("frame.color", bytes.size(), 3 * pixels);
-      cv::Mat src(h, w, CV_8UC3, data);
-      cv::cvtColor(
-          src, dst,
-          color_encoding_ == v1::COLOR_ENCODING_RGB8 ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
-      return "";
+      const ChannelOrder order =
+          color_encoding_ == v1::COLOR_ENCODING_RGB8 ? ChannelOrder::kRgb : ChannelOrder::kBgr;
+      error = grayFrom8Bit(data, w, h, 3, 3 * size_t(w), order, gray);
+      break;
     }
     case v1::COLOR_ENCODING_JPEG:
     case v1::COLOR_ENCODING_PNG: {
       if (bytes.empty()) return "frame.color: empty";
-      cv::Mat decoded;
-      try {
-        decoded = cv::imdecode(cv::Mat(1, int(bytes.size()), CV_8UC1, data), cv::IMREAD_UNCHANGED);
-      } catch (const cv::Exception&) {
-        decoded.release();
-      }
+      const cv::Mat decoded = decodeImage(bytes, cv::IMREAD_UNCHANGED);
       if (decoded.empty()) return "frame.color: not a decodable image";
-      if (decoded.cols != w || decoded.rows != h)
-        return "frame.color: image is " + std::to_string(decoded.cols) + "x" +
-               std::to_string(decoded.rows) + ", session expects " + std::to_string(w) + "x" +
-               std::to_string(h);
+      if (std::string e = camera_.checkImageSize(decoded.cols, decoded.rows); !e.empty())
+        return "frame.color: " + e;
       if (decoded.depth() != CV_8U) return "frame.color: must be 8-bit";
-      if (decoded.channels() == 1)
-        decoded.copyTo(dst);
-      else if (decoded.channels() == 3)
-        cv::cvtColor(decoded, dst, cv::COLOR_BGR2GRAY);
-      else if (decoded.channels() == 4)
-        cv::cvtColor(decoded, dst, cv::COLOR_BGRA2GRAY);
-      else
-        return "frame.color: unsupported channel count " + std::to_string(decoded.channels());
-      return "";
+      error = grayFrom8Bit(decoded.ptr<uint8_t>(), w, h, decoded.channels(), decoded.step,
+                           ChannelOrder::kBgr, gray);
+      break;
     }
     default:
       return "frame.color: unsupported encoding";
   }
+  return error.empty() ? error : "frame.color: " + error;
 }
 
 std::string FrameDecoder::decodeDepth(const std::string& bytes, DepthImageF* depth) const {
   const int w = camera_.width, h = camera_.height;
   const size_t pixels = size_t(w) * size_t(h);
-  if (depth->width != w || depth->height != h) depth->resize(w, h);
-  float* out = depth->data.data();
-  const float inv_scale = float(1.0 / camera_.depth_scale);
   switch (depth_encoding_) {
-    case v1::DEPTH_ENCODING_UINT16: {
+    case v1::DEPTH_ENCODING_UINT16:
       if (bytes.size() != 2 * pixels) return sizeMismatch("frame.depth", bytes.size(), 2 * pixels);
-      const auto* in = reinterpret_cast<const unsigned char*>(bytes.data());
-      for (size_t i = 0; i < pixels; ++i)
-        out[i] = float(uint16_t(in[2 * i] | (in[2 * i + 1] << 8))) * inv_scale;
+      depthFrom16Bit(bytes.data(), w, h, 2 * size_t(w), camera_.depth_scale, depth);
       return "";
-    }
     case v1::DEPTH_ENCODING_FLOAT32: {
       if (bytes.size() != 4 * pixels) return sizeMismatch("frame.depth", bytes.size(), 4 * pixels);
+      if (depth->width != w || depth->height != h) depth->resize(w, h);
+      float* out = depth->data.data();
       std::memcpy(out, bytes.data(), 4 * pixels);
       for (size_t i = 0; i < pixels; ++i)
         if (!(out[i] > 0.f) || !std::isfinite(out[i])) out[i] = 0.f;
@@ -137,25 +131,12 @@ std::string FrameDecoder::decodeDepth(const std::string& bytes, DepthImageF* dep
     }
     case v1::DEPTH_ENCODING_PNG16: {
       if (bytes.empty()) return "frame.depth: empty";
-      cv::Mat decoded;
-      try {
-        decoded =
-            cv::imdecode(cv::Mat(1, int(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),
-                         cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);
-      } catch (const cv::Exception&) {
-        decoded.release();
-      }
+      const cv::Mat decoded = decodeImage(bytes, cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);
       if (decoded.empty()) return "frame.depth: not a decodable PNG";
       if (decoded.type() != CV_16UC1) return "frame.depth: must be a 16-bit single-channel PNG";
-      if (decoded.cols != w || decoded.rows != h)
-        return "frame.depth: image is " + std::to_string(decoded.cols) + "x" +
-               std::to_string(decoded.rows) + ", session expects " + std::to_string(w) + "x" +
-               std::to_string(h);
-      for (int v = 0; v < h; ++v) {
-        const uint16_t* row = decoded.ptr<uint16_t>(v);
-        for (int u = 0; u < w; ++u)
-          out[size_t(v) * size_t(w) + size_t(u)] = float(row[u]) * inv_scale;
-      }
+      if (std::string e = camera_.checkImageSize(decoded.cols, decoded.rows); !e.empty())
+        return "frame.depth: " + e;
+      depthFrom16Bit(decoded.ptr(), w, h, decoded.step, camera_.depth_scale, depth);
       return "";
     }
     default:

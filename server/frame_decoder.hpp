@@ -3,8 +3,8 @@
 // into the grey + metric depth images the odometry consumes.
 #include <string>
 
-#include "nidevo/camera.hpp"
-#include "nidevo/image.hpp"
+#include "nidevo/odometry/camera.hpp"
+#include "nidevo/odometry/image.hpp"
 #include "nidevo/v1/odometry.pb.h"
 
 namespace nidevo::server {

@@ -1,6 +1,6 @@
 #pragma once
 // The odometry's PoseEstimate as the API's TrackResponse.
-#include "nidevo/odometry.hpp"
+#include "nidevo/odometry/odometry.hpp"
 #include "nidevo/v1/odometry.pb.h"
 
 namespace nidevo::server {

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <string>
 
-#include "nidevo/odometry_config.hpp"
+#include "nidevo/odometry/odometry_config.hpp"
 
 namespace nidevo::server {
 

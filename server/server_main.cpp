@@ -15,10 +15,10 @@
 
 #include "absl/flags/flag.h"
 #include "absl/synchronization/mutex.h"
-#include "cli.hpp"
-#include "nidevo/camera.hpp"
-#include "nidevo/odometry.hpp"
-#include "odometry_flags.hpp"
+#include "nidevo/cli/cli.hpp"
+#include "nidevo/cli/odometry_flags.hpp"
+#include "nidevo/odometry/camera.hpp"
+#include "nidevo/odometry/odometry.hpp"
 #include "odometry_service.hpp"
 #include "prometheus/exposer.h"
 #include "server_config.hpp"
@@ -29,6 +29,7 @@ namespace {
 const nidevo::server::ServerConfig kDefaults;
 }
 
+NIDEVO_FLAG_HEADING("Server");
 ABSL_FLAG(std::string, address, kDefaults.address,
           "gRPC listen address host:port (port 0: any free port, see --port_file)");
 ABSL_FLAG(std::string, metrics_address, kDefaults.metrics_address,
@@ -126,7 +127,7 @@ void writePortFile(const std::string& path, int grpc_port, int metrics_port) {
 // Plans FFTW for the projection size and touches every code path once, so the first session
 // does not pay for it and health turns SERVING only when the server is really ready.
 void warmUp(const nidevo::OdometryConfig& config) {
-  nidevo::Camera camera = *nidevo::cameraPreset("icl");
+  const nidevo::Camera camera;  // the defaults: ICL-NUIM's VGA camera
   nidevo::Odometry odometry(camera, config);
   nidevo::RgbdFrame frame;
   frame.gray.resize(camera.width, camera.height, 128);

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "frame_decoder.hpp"
-#include "nidevo/odometry.hpp"
+#include "nidevo/odometry/odometry.hpp"
 #include "nidevo/v1/odometry.grpc.pb.h"
 #include "server_config.hpp"
 #include "server_metrics.hpp"

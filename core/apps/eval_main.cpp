@@ -3,9 +3,9 @@
 #include <iostream>
 
 #include "absl/flags/flag.h"
-#include "cli.hpp"
-#include "evaluation_report.hpp"
-#include "nidevo/trajectory.hpp"
+#include "nidevo/cli/cli.hpp"
+#include "nidevo/eval/evaluation_report.hpp"
+#include "nidevo/io/trajectory.hpp"
 
 ABSL_FLAG(std::string, plot, "", "Write a PNG plot (top and side views) to this path");
 ABSL_FLAG(int, rpe_delta, 1, "RPE frame delta");

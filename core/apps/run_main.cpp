@@ -5,13 +5,13 @@
 #include <iostream>
 
 #include "absl/flags/flag.h"
-#include "cli.hpp"
-#include "evaluation_report.hpp"
-#include "frame_loader.hpp"
-#include "nidevo/odometry.hpp"
-#include "nidevo/pipeline.hpp"
-#include "odometry_flags.hpp"
-#include "sequence_flags.hpp"
+#include "nidevo/cli/cli.hpp"
+#include "nidevo/cli/odometry_flags.hpp"
+#include "nidevo/eval/evaluation_report.hpp"
+#include "nidevo/loader/frame_loader.hpp"
+#include "nidevo/loader/sequence_flags.hpp"
+#include "nidevo/odometry/odometry.hpp"
+#include "nidevo/odometry/pipeline.hpp"
 
 ABSL_FLAG(int, threads, 1, "1: all stages on one thread; 3: the three-stage pipeline");
 ABSL_FLAG(std::string, out, "", "Write the estimated trajectory (TUM format) here");

@@ -4,19 +4,12 @@
 #include <iostream>
 
 #include "absl/flags/flag.h"
-#include "cli.hpp"
-#include "nidevo/synth_sequence.hpp"
+#include "nidevo/cli/cli.hpp"
+#include "nidevo/loader/sequence_flags.hpp"
+#include "nidevo/sim/sequence.hpp"
 
-ABSL_FLAG(std::string, scene, "office", "Scene: office, corridor, corner, gap");
-ABSL_FLAG(std::string, texture, "rich", "Texture richness: rich, low, none");
-ABSL_FLAG(std::string, noise, "none",
-          "Sensor noise: none, icl (ICL-NUIM-like depth and RGB noise)");
-ABSL_FLAG(int, frames, 300, "Number of frames");
 ABSL_FLAG(double, rate, 30.0, "Frame rate in Hz");
 ABSL_FLAG(double, speed, 0.25, "Mean camera speed along the path in m/s");
-ABSL_FLAG(uint64_t, seed, 1, "Seed of the handheld shake and the noise");
-ABSL_FLAG(std::string, camera, "icl",
-          "Camera preset: icl, icl_fy_positive, tum_fr1, tum_fr2, tum_fr3");
 ABSL_FLAG(std::string, out, "", "Output folder (required)");
 
 int main(int argc, char** argv) {
@@ -29,20 +22,10 @@ int main(int argc, char** argv) {
   const std::string out = absl::GetFlag(FLAGS_out);
   if (out.empty()) return nidevo::cli::usageError("--out is required");
   try {
-    nidevo::synth::SequenceConfig config;
-    config.scene = absl::GetFlag(FLAGS_scene);
-    config.texture = nidevo::synth::parseTextureRichness(absl::GetFlag(FLAGS_texture));
-    config.noise = nidevo::synth::parseSensorNoise(absl::GetFlag(FLAGS_noise));
-    config.frames = absl::GetFlag(FLAGS_frames);
+    nidevo::synth::SequenceConfig config =
+        nidevo::cli::syntheticSequenceConfig(nidevo::cli::sceneSourceFromFlags());
     config.rate_hz = absl::GetFlag(FLAGS_rate);
     config.speed = absl::GetFlag(FLAGS_speed);
-    config.seed = absl::GetFlag(FLAGS_seed);
-    auto camera = nidevo::cameraPreset(absl::GetFlag(FLAGS_camera));
-    if (!camera) {
-      return nidevo::cli::usageError("unknown --camera '" + absl::GetFlag(FLAGS_camera) + "' (" +
-                                     nidevo::cameraPresetNames() + ")");
-    }
-    config.camera = *camera;
     const auto start = std::chrono::steady_clock::now();
     nidevo::synth::SyntheticSequence sequence(config);
     sequence.writeTumFolder(out);

@@ -5,9 +5,9 @@
 #include <atomic>
 #include <thread>
 
-#include "nidevo/metrics.hpp"
-#include "nidevo/odometry.hpp"
-#include "nidevo/synth_sequence.hpp"
+#include "nidevo/eval/metrics.hpp"
+#include "nidevo/odometry/odometry.hpp"
+#include "nidevo/sim/sequence.hpp"
 
 namespace nidevo {
 namespace {

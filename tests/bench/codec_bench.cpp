@@ -4,7 +4,8 @@
 
 #include "frame_decoder.hpp"
 #include "frame_encoder.hpp"
-#include "nidevo/synth_sequence.hpp"
+#include "nidevo/io/camera_io.hpp"
+#include "nidevo/sim/sequence.hpp"
 
 namespace nidevo {
 namespace {

@@ -4,8 +4,9 @@
 
 #include <chrono>
 
-#include "nidevo/odometry.hpp"
-#include "nidevo/synth_sequence.hpp"
+#include "nidevo/io/camera_io.hpp"
+#include "nidevo/odometry/odometry.hpp"
+#include "nidevo/sim/sequence.hpp"
 
 namespace nidevo {
 namespace {

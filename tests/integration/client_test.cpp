@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "nidevo/trajectory.hpp"
+#include "nidevo/io/trajectory.hpp"
 #include "server_process.hpp"
 #include "service_fixtures.hpp"
 

@@ -1,6 +1,7 @@
 #include "service_fixtures.hpp"
 
-#include "nidevo/pipeline.hpp"
+#include "nidevo/io/camera_io.hpp"
+#include "nidevo/odometry/pipeline.hpp"
 
 namespace nidevo::test {
 

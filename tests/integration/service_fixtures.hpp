@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "frame_encoder.hpp"
-#include "nidevo/odometry.hpp"
-#include "nidevo/synth_sequence.hpp"
+#include "nidevo/odometry/odometry.hpp"
+#include "nidevo/sim/sequence.hpp"
 #include "odometry_client.hpp"
 
 namespace nidevo::test {

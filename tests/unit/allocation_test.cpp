@@ -5,8 +5,9 @@
 #include <cstdlib>
 #include <new>
 
-#include "nidevo/odometry.hpp"
-#include "nidevo/synth_sequence.hpp"
+#include "nidevo/io/camera_io.hpp"
+#include "nidevo/odometry/odometry.hpp"
+#include "nidevo/sim/sequence.hpp"
 
 namespace {
 std::atomic<bool> counting{false};

@@ -1,9 +1,11 @@
-#include "nidevo/camera.hpp"
+#include "nidevo/odometry/camera.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+
+#include "nidevo/io/camera_io.hpp"
 
 namespace nidevo {
 namespace {

@@ -1,4 +1,4 @@
-#include "nidevo/dataset.hpp"
+#include "nidevo/io/dataset.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "nidevo/synth_sequence.hpp"
+#include "nidevo/io/camera_io.hpp"
+#include "nidevo/sim/sequence.hpp"
 
 namespace nidevo {
 namespace {

@@ -1,4 +1,4 @@
-#include "nidevo/kcc.hpp"
+#include "nidevo/odometry/kcc.hpp"
 
 #include <gtest/gtest.h>
 

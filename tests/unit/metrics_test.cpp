@@ -1,4 +1,4 @@
-#include "nidevo/metrics.hpp"
+#include "nidevo/eval/metrics.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,12 @@
-#include "nidevo/normal_map.hpp"
+#include "nidevo/odometry/normal_map.hpp"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+
+#include "nidevo/io/camera_io.hpp"
 
 namespace nidevo {
 namespace {

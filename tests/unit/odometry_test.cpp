@@ -1,12 +1,13 @@
-#include "nidevo/odometry.hpp"
+#include "nidevo/odometry/odometry.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "nidevo/motion_model.hpp"
-#include "nidevo/pipeline.hpp"
-#include "nidevo/synth_sequence.hpp"
+#include "nidevo/io/camera_io.hpp"
+#include "nidevo/odometry/motion_model.hpp"
+#include "nidevo/odometry/pipeline.hpp"
+#include "nidevo/sim/sequence.hpp"
 
 namespace nidevo {
 namespace {

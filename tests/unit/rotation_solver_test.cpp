@@ -1,4 +1,4 @@
-#include "nidevo/rotation_solver.hpp"
+#include "nidevo/odometry/rotation_solver.hpp"
 
 #include <gtest/gtest.h>
 

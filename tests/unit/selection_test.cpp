@@ -1,4 +1,4 @@
-#include "nidevo/selection.hpp"
+#include "nidevo/odometry/selection.hpp"
 
 #include <gtest/gtest.h>
 

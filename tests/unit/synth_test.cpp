@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
-#include "nidevo/synth_sequence.hpp"
+#include "nidevo/io/camera_io.hpp"
+#include "nidevo/sim/sequence.hpp"
 
 namespace nidevo::synth {
 namespace {

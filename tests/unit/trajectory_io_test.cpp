@@ -5,7 +5,7 @@
 #include <random>
 #include <sstream>
 
-#include "nidevo/trajectory.hpp"
+#include "nidevo/io/trajectory.hpp"
 
 namespace nidevo {
 namespace {

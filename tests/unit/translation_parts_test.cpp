@@ -6,8 +6,8 @@
 #include <limits>
 #include <random>
 
-#include "nidevo/depth_shift.hpp"
-#include "nidevo/ortho_projection.hpp"
+#include "nidevo/odometry/depth_shift.hpp"
+#include "nidevo/odometry/ortho_projection.hpp"
 
 namespace nidevo {
 namespace {

@@ -106,7 +106,7 @@ TEST(FrameCodec, BadFramesAreNamed) {
   EXPECT_NE(png_decoder.decode(grey_as_depth, &out).find("16-bit"), std::string::npos);
   v1::Frame wrong_size;
   client::encodeFrame(testFrame(9, 8), 5000, png, &wrong_size);
-  EXPECT_NE(png_decoder.decode(wrong_size, &out).find("9x8, session expects 8x8"),
+  EXPECT_NE(png_decoder.decode(wrong_size, &out).find("9x8 but the camera is 8x8"),
             std::string::npos);
   v1::Frame empty = wire;
   empty.clear_depth();

@@ -1,0 +1,69 @@
+#include "nidevo/cli/odometry_flags.hpp"
+
+#include <stdexcept>
+
+#include "absl/flags/flag.h"
+#include "nidevo/cli/cli.hpp"
+
+namespace {
+const nidevo::OdometryConfig kDefaults;
+}
+
+NIDEVO_FLAG_HEADING("Odometry (METHOD.md; defaults are OdometryConfig's)");
+ABSL_FLAG(int, cell_size, kDefaults.cell_size, "Normal-map box filter side (paper Table 3)");
+ABSL_FLAG(int, normal_stride, kDefaults.normal_stride,
+          "Normal map at 1/stride of the input resolution (1 = full, 2 = half)");
+ABSL_FLAG(std::string, rotation_method, nidevo::toString(kDefaults.rotation_method),
+          "best_pair (paper) or closed_form (SVD over all planes)");
+ABSL_FLAG(std::string, plane_normal, nidevo::toString(kDefaults.plane_normal),
+          "Plane normal per frame: median (paper) or fit (least-squares plane through the points)");
+ABSL_FLAG(double, min_plane_fraction, kDefaults.min_plane_fraction,
+          "Smallest plane, as a fraction of the normal map's pixels");
+ABSL_FLAG(int, projection_width, kDefaults.projection_width, "Orthographic projection width");
+ABSL_FLAG(int, projection_height, kDefaults.projection_height, "Orthographic projection height");
+ABSL_FLAG(int, projection_stride, kDefaults.projection_stride,
+          "Project every n-th input pixel in u and v");
+ABSL_FLAG(bool, fft_measure, kDefaults.fft_measure,
+          "Time FFTW plans (FFTW_MEASURE): poses then differ in the last bits between runs");
+ABSL_FLAG(bool, kcc_depth, kDefaults.kcc_use_depth, "Correlate depth as a second KCC channel");
+ABSL_FLAG(double, kcc_label_sigma, kDefaults.kcc_label_sigma,
+          "KCC label: 0 = delta (authors), else a Gaussian of this many pixels");
+ABSL_FLAG(bool, flatten_outline, kDefaults.projection_flatten_outline,
+          "Empty projection cells take the mean grey instead of 0.5 (authors), and contrast fades "
+          "towards the image border");
+ABSL_FLAG(double, border_fade, kDefaults.projection_border_fade,
+          "Width of that fade as a fraction of the image width");
+ABSL_FLAG(int, fill_gap, kDefaults.projection_fill_gap,
+          "Fill projection holes of up to this many cells within one surface (0: off)");
+ABSL_FLAG(bool, subpixel, kDefaults.subpixel_peak, "Sub-pixel refinement of the KCC peak");
+ABSL_FLAG(int, rotation_keyframe_interval, kDefaults.rotation_keyframe_interval,
+          "Renew the rotation keyframe at least every this many frames");
+ABSL_FLAG(double, psr_bound, kDefaults.psr_bound,
+          "Translation keyframe renewed at or below this PSR (paper: 50)");
+
+namespace nidevo::cli {
+
+OdometryConfig odometryConfigFromFlags() {
+  OdometryConfig c;
+  c.cell_size = absl::GetFlag(FLAGS_cell_size);
+  c.normal_stride = absl::GetFlag(FLAGS_normal_stride);
+  c.rotation_method = parseRotationMethod(absl::GetFlag(FLAGS_rotation_method));
+  c.plane_normal = nidevo::parsePlaneNormalEstimator(absl::GetFlag(FLAGS_plane_normal));
+  c.min_plane_fraction = float(absl::GetFlag(FLAGS_min_plane_fraction));
+  c.projection_width = absl::GetFlag(FLAGS_projection_width);
+  c.projection_height = absl::GetFlag(FLAGS_projection_height);
+  c.projection_stride = absl::GetFlag(FLAGS_projection_stride);
+  c.kcc_use_depth = absl::GetFlag(FLAGS_kcc_depth);
+  c.fft_measure = absl::GetFlag(FLAGS_fft_measure);
+  c.kcc_label_sigma = float(absl::GetFlag(FLAGS_kcc_label_sigma));
+  c.projection_flatten_outline = absl::GetFlag(FLAGS_flatten_outline);
+  c.projection_border_fade = float(absl::GetFlag(FLAGS_border_fade));
+  c.projection_fill_gap = absl::GetFlag(FLAGS_fill_gap);
+  c.subpixel_peak = absl::GetFlag(FLAGS_subpixel);
+  c.rotation_keyframe_interval = absl::GetFlag(FLAGS_rotation_keyframe_interval);
+  c.psr_bound = float(absl::GetFlag(FLAGS_psr_bound));
+  if (auto e = c.validate(); !e.empty()) throw std::invalid_argument(e);
+  return c;
+}
+
+}  // namespace nidevo::cli

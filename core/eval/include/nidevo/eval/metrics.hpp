@@ -1,0 +1,48 @@
+#pragma once
+// Trajectory metrics as the evo toolbox reports them: ATE after a rigid (no scale) alignment and
+// RPE over a frame delta.
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "nidevo/io/trajectory.hpp"
+
+namespace nidevo {
+
+struct ErrorStatistics {
+  double rmse = 0, mean = 0, median = 0, std = 0, min = 0, max = 0, sse = 0;
+  size_t count = 0;
+};
+ErrorStatistics computeStatistics(std::vector<double> errors);
+
+// Estimate and reference poses matched by timestamp (within max_difference seconds).
+struct MatchedTrajectories {
+  std::vector<Eigen::Isometry3d> estimate;
+  std::vector<Eigen::Isometry3d> reference;
+  std::vector<double> timestamps;
+};
+MatchedTrajectories matchByTimestamp(const Trajectory& estimate, const Trajectory& reference,
+                                     double max_difference = 0.01);
+
+struct AteResult {
+  ErrorStatistics translation;  // metres
+  Eigen::Isometry3d alignment;  // applied to the estimate: reference ~ alignment * estimate
+  std::vector<Eigen::Vector3d> aligned_estimate;
+  std::vector<Eigen::Vector3d> reference;
+  std::vector<double> errors;
+};
+// Throws std::invalid_argument if fewer than 3 poses match.
+AteResult computeAte(const MatchedTrajectories& matched);
+
+struct RpeResult {
+  ErrorStatistics translation;  // metres
+  ErrorStatistics rotation;     // degrees
+};
+// Relative error between frames i and i + delta (evo's RPE with delta in frames).
+RpeResult computeRpe(const MatchedTrajectories& matched, int delta = 1);
+
+// A table like evo_ape/evo_rpe print.
+std::string formatStatisticsTable(const std::string& title, const ErrorStatistics& stats,
+                                  const std::string& unit);
+
+}  // namespace nidevo

@@ -1,0 +1,19 @@
+#pragma once
+// Cameras as the tools name them: built-in presets and a small text file format.
+#include <optional>
+#include <string>
+
+#include "nidevo/odometry/camera.hpp"
+
+namespace nidevo {
+
+// Built-in presets: "icl", "icl_fy_positive", "tum_fr1", "tum_fr2", "tum_fr3".
+std::optional<Camera> cameraPreset(const std::string& name);
+std::string cameraPresetNames();
+
+// Text format: one "key value" pair per line (fx fy cx cy width height depth_scale), '#' comments.
+// Throws std::runtime_error naming the file and line on any problem.
+Camera readCameraFile(const std::string& path);
+void writeCameraFile(const std::string& path, const Camera& camera);
+
+}  // namespace nidevo

@@ -1,0 +1,85 @@
+#include "nidevo/io/camera_io.hpp"
+
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace nidevo {
+
+std::optional<Camera> cameraPreset(const std::string& name) {
+  auto make = [](double fx, double fy, double cx, double cy) {
+    Camera c;
+    c.fx = fx;
+    c.fy = fy;
+    c.cx = cx;
+    c.cy = cy;
+    c.width = 640;
+    c.height = 480;
+    c.depth_scale = 5000.0;
+    return c;
+  };
+  if (name == "icl") return make(481.2, -480.0, 319.5, 239.5);
+  if (name == "icl_fy_positive") return make(481.2, 480.0, 319.5, 239.5);
+  if (name == "tum_fr1") return make(517.3, 516.5, 318.6, 255.3);
+  if (name == "tum_fr2") return make(520.9, 521.0, 325.1, 249.7);
+  if (name == "tum_fr3") return make(535.4, 539.2, 320.1, 247.6);
+  return std::nullopt;
+}
+
+std::string cameraPresetNames() { return "icl, icl_fy_positive, tum_fr1, tum_fr2, tum_fr3"; }
+
+Camera readCameraFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open camera file");
+  std::map<std::string, double> values;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    auto hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    std::istringstream ss(line);
+    std::string key;
+    if (!(ss >> key)) continue;
+    double value;
+    std::string extra;
+    if (!(ss >> value) || (ss >> extra)) {
+      throw std::runtime_error(path + ":" + std::to_string(line_no) +
+                               ": expected 'key value', got '" + line + "'");
+    }
+    static const char* kKeys[] = {"fx", "fy", "cx", "cy", "width", "height", "depth_scale"};
+    bool known = false;
+    for (const char* k : kKeys) known = known || key == k;
+    if (!known) {
+      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": unknown key '" + key +
+                               "' (expected fx fy cx cy width height depth_scale)");
+    }
+    values[key] = value;
+  }
+  Camera c;
+  for (const char* k : {"fx", "fy", "cx", "cy", "width", "height"}) {
+    if (!values.count(k)) throw std::runtime_error(path + ": missing key '" + std::string(k) + "'");
+  }
+  c.fx = values["fx"];
+  c.fy = values["fy"];
+  c.cx = values["cx"];
+  c.cy = values["cy"];
+  c.width = int(values["width"]);
+  c.height = int(values["height"]);
+  if (values.count("depth_scale")) c.depth_scale = values["depth_scale"];
+  if (auto err = c.validate(); !err.empty()) throw std::runtime_error(path + ": " + err);
+  return c;
+}
+
+void writeCameraFile(const std::string& path, const Camera& c) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error(path + ": cannot write camera file");
+  out.precision(10);
+  out << "# nidevo camera: pinhole intrinsics, image size, raw depth units per metre\n"
+      << "fx " << c.fx << "\nfy " << c.fy << "\ncx " << c.cx << "\ncy " << c.cy << "\nwidth "
+      << c.width << "\nheight " << c.height << "\ndepth_scale " << c.depth_scale << "\n";
+  if (!out) throw std::runtime_error(path + ": write failed");
+}
+
+}  // namespace nidevo

@@ -1,0 +1,38 @@
+#pragma once
+// Loads a sequence into memory for the offline tools: a TUM/ICL-NUIM folder or a synthetic
+// scene rendered on the fly (on all cores).
+#include <string>
+#include <vector>
+
+#include "nidevo/io/trajectory.hpp"
+#include "nidevo/odometry/camera.hpp"
+#include "nidevo/odometry/image.hpp"
+#include "nidevo/sim/sequence.hpp"
+
+namespace nidevo::cli {
+
+struct LoadedSequence {
+  std::string name;
+  Camera camera;
+  std::vector<RgbdFrame> frames;
+  Trajectory ground_truth;  // empty when the source has none
+};
+
+// "scene:office" style sources render synthetic sequences; anything else is a dataset folder.
+struct SequenceSource {
+  std::string dataset;  // folder, or empty
+  std::string scene = "office";
+  std::string texture = "rich";
+  std::string noise = "none";
+  int frames = 300;
+  uint64_t seed = 1;
+  std::string camera = "icl";  // preset for a synthetic scene, or a folder without camera.txt
+  size_t max_frames = 0;       // 0: all
+};
+
+// Throws std::exception with a message naming what is wrong.
+LoadedSequence loadSequence(const SequenceSource& source);
+// The renderer's config of the source's synthetic scene (its dataset field is ignored).
+synth::SequenceConfig syntheticSequenceConfig(const SequenceSource& source);
+
+}  // namespace nidevo::cli

@@ -1,0 +1,98 @@
+#include "nidevo/loader/frame_loader.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "nidevo/io/camera_io.hpp"
+#include "nidevo/io/dataset.hpp"
+#include "nidevo/sim/sequence.hpp"
+
+namespace nidevo::cli {
+
+namespace {
+
+template <typename Fn>
+void parallelFor(size_t n, Fn&& fn) {
+  const size_t workers = std::max(1u, std::thread::hardware_concurrency());
+  std::atomic<size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  std::vector<std::thread> threads;
+  for (size_t w = 0; w < workers; ++w) {
+    threads.emplace_back([&] {
+      for (size_t i = next++; i < n; i = next++) {
+        try {
+          fn(i);
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(error_mutex);
+          if (!error) error = std::current_exception();
+        }
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
+namespace {
+
+Camera presetNamed(const std::string& name) {
+  auto preset = cameraPreset(name);
+  if (!preset) {
+    throw std::invalid_argument("unknown camera preset '" + name + "' (" + cameraPresetNames() +
+                                ")");
+  }
+  return *preset;
+}
+
+}  // namespace
+
+synth::SequenceConfig syntheticSequenceConfig(const SequenceSource& src) {
+  synth::SequenceConfig config;
+  config.scene = src.scene;
+  config.texture = synth::parseTextureRichness(src.texture);
+  config.noise = synth::parseSensorNoise(src.noise);
+  config.frames = int(src.max_frames ? std::min<size_t>(src.max_frames, size_t(src.frames))
+                                     : size_t(src.frames));
+  config.seed = src.seed;
+  config.camera = presetNamed(src.camera);
+  return config;
+}
+
+LoadedSequence loadSequence(const SequenceSource& src) {
+  LoadedSequence out;
+  if (!src.dataset.empty()) {
+    const Camera preset = presetNamed(src.camera);
+    TumDataset ds(src.dataset, preset);
+    size_t n = ds.size();
+    if (src.max_frames) n = std::min(n, src.max_frames);
+    out.name = src.dataset;
+    out.camera = ds.camera();
+    out.frames.resize(n);
+    parallelFor(n, [&](size_t i) { out.frames[i] = ds.loadFrame(i); });
+    for (size_t i = 0; i < n; ++i) {
+      if (ds.entry(i).ground_truth) out.ground_truth.push_back(*ds.entry(i).ground_truth);
+    }
+    // Timestamps of the ground truth are the frames' own, so evaluation matches them exactly.
+    for (size_t i = 0, k = 0; i < n && k < out.ground_truth.size(); ++i) {
+      if (ds.entry(i).ground_truth) out.ground_truth[k++].timestamp = out.frames[i].timestamp;
+    }
+    return out;
+  }
+  const synth::SequenceConfig config = syntheticSequenceConfig(src);
+  const synth::SyntheticSequence seq(config);
+  out.name = src.scene + " (" + src.texture + " texture, " + src.noise + " noise)";
+  out.camera = config.camera;
+  out.frames.resize(size_t(config.frames));
+  parallelFor(out.frames.size(), [&](size_t i) { out.frames[i] = seq.renderFrame(int(i)); });
+  out.ground_truth = seq.groundTruthTrajectory();
+  return out;
+}
+
+}  // namespace nidevo::cli

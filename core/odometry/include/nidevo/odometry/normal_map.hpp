@@ -1,0 +1,43 @@
+#pragma once
+// Stage 1: dense normal map from depth (paper Eq. 4), smoothed by a box filter that ignores
+// pixels without a normal.
+#include <Eigen/Core>
+#include <vector>
+
+#include "nidevo/odometry/camera.hpp"
+#include "nidevo/odometry/image.hpp"
+
+namespace nidevo {
+
+struct NormalMap {
+  int width = 0;
+  int height = 0;
+  std::vector<Eigen::Vector3f> normal;  // unit, towards the camera; meaningful where valid
+  std::vector<uint8_t> valid;
+  std::vector<Eigen::Vector3f> points;  // back-projected points of the map's pixels, z = 0 if none
+  std::vector<uint8_t> smooth;          // valid, and every 4-neighbour's normal within crease_dot
+  void resize(int w, int h);
+  int validCount() const;
+};
+
+// Owns the scratch buffers so that repeated calls do not allocate.
+class NormalMapBuilder {
+ public:
+  // depth: metres, 0 = missing. stride: subsampling of the depth image (pixel (u,v) of the map
+  // is depth pixel (stride*u, stride*v)). Depth outside [min_depth, max_depth] counts as missing.
+  void compute(const DepthImageF& depth, const Camera& camera, int stride, int cell_size,
+               float depth_discontinuity, float min_depth, float max_depth, float crease_dot,
+               NormalMap* out);
+
+ private:
+  // Planes of floats (one per component) rather than Vector3f, so that the per-pixel loops
+  // vectorise; each holds one value per map pixel.
+  std::vector<float> z_;             // depth, 0 where missing
+  std::vector<float> nx_, ny_, nz_;  // Eq. 4 normal, then (after the box filter) the smoothed
+  std::vector<uint8_t> has_normal_;  // Eq. 4 gave a normal
+  std::vector<float> hx_, hy_, hz_;  // horizontal box sums
+  std::vector<float> sum_x_, sum_y_, sum_z_;  // vertical running sums, one per column
+  std::vector<float> ray_x_, ray_y_;          // (u - cx) / fx per column, (v - cy) / fy per row
+};
+
+}  // namespace nidevo

@@ -1,0 +1,114 @@
+#pragma once
+// The per-session NIDEVO odometry: frames in, T_world_cam out. The three stages (normal map,
+// rotation, translation) are separately callable so that a caller can run them on different
+// threads; stage 2 and stage 3 must each see the frames in order.
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "nidevo/odometry/camera.hpp"
+#include "nidevo/odometry/depth_shift.hpp"
+#include "nidevo/odometry/image.hpp"
+#include "nidevo/odometry/kcc.hpp"
+#include "nidevo/odometry/motion_model.hpp"
+#include "nidevo/odometry/normal_map.hpp"
+#include "nidevo/odometry/odometry_config.hpp"
+#include "nidevo/odometry/ortho_projection.hpp"
+#include "nidevo/odometry/plane_tracking.hpp"
+
+namespace nidevo {
+
+enum class TrackingState { kOk, kDegraded, kLost };
+const char* toString(TrackingState s);
+
+enum class RotationSource {
+  kInitial,     // first frame (or first after a loss): identity or the last pose
+  kPlanes,      // two or more non-parallel planes (the method)
+  kOnePlane,    // one plane: prediction corrected so that the plane's normal agrees
+  kPrediction,  // no plane: constant-rotation-rate prediction
+};
+const char* toString(RotationSource s);
+
+struct StageTimes {
+  double normals_s = 0;
+  double rotation_s = 0;
+  double translation_s = 0;
+};
+
+struct PoseEstimate {
+  uint64_t frame_index = 0;
+  double timestamp = 0;
+  Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+  TrackingState state = TrackingState::kOk;
+  const char* reason = "";  // static text; empty when OK
+  double psr = 0;
+  int planes_used = 0;
+  RotationSource rotation_source = RotationSource::kInitial;
+  bool rotation_keyframe = false;
+  bool translation_keyframe = false;
+  int overlap_pixels = 0;
+  double projection_resolution = 0;  // m/px of the translation keyframe
+  StageTimes times;
+};
+
+// What one frame carries from stage to stage. Reusable: buffers keep their capacity.
+struct FrameState {
+  uint64_t frame_index = 0;
+  double timestamp = 0;
+  bool depth_ok = false;
+  NormalMap normals;
+  NormalMapBuilder normal_builder;
+  // Projection cloud (camera frame), one plane per coordinate; z = 0 where depth is missing.
+  std::vector<float> cloud_x, cloud_y, cloud_z;
+  std::vector<float> intensity;  // [0, 1]
+  // Stage 2 output.
+  Eigen::Matrix3d R_world_cam = Eigen::Matrix3d::Identity();
+  RotationSource rotation_source = RotationSource::kInitial;
+  int planes_used = 0;
+  int overlap_pixels = 0;
+  bool rotation_keyframe = false;
+  StageTimes times;
+};
+
+class Odometry {
+ public:
+  // Throws std::invalid_argument naming the bad field of the camera or the config.
+  Odometry(const Camera& camera, const OdometryConfig& config);
+  ~Odometry();
+
+  const Camera& camera() const { return camera_; }
+  const OdometryConfig& config() const { return config_; }
+
+  // Stage 1: thread-safe for distinct states. Throws std::invalid_argument if the frame does
+  // not match the camera's size.
+  void computeNormals(const RgbdFrame& frame, FrameState* state) const;
+  // Stage 2: rotation against the rotation keyframe.
+  void estimateRotation(FrameState* state);
+  // Stage 3: translation against the translation keyframe; the frame's final pose.
+  PoseEstimate estimateTranslation(FrameState* state);
+
+  // All three stages on the calling thread.
+  PoseEstimate track(const RgbdFrame& frame);
+
+ private:
+  struct RotationState;
+  struct TranslationState;
+  void makeTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_world_cam);
+  CloudView projectionCloud(const FrameState& state) const;
+  void projectForCorrelation(const CloudView& cloud, const Eigen::Matrix3f& R,
+                             OrthoImage* image) const;
+  const float* depthChannel(const OrthoImage& image, float mean_depth,
+                            std::vector<float>* channel) const;
+
+  Camera camera_;
+  OdometryConfig config_;
+  std::unique_ptr<RotationState> rot_;
+  std::unique_ptr<TranslationState> trans_;
+  std::vector<float> point_weight_;   // per projection point, fades contrast at the border
+  std::vector<float> ray_x_, ray_y_;  // projection cloud: (u - cx) / fx per column, per row
+  FrameState own_state_;
+  uint64_t next_index_ = 0;
+};
+
+}  // namespace nidevo

@@ -1,0 +1,76 @@
+#pragma once
+// Every tunable of the odometry in one place, with the defaults of METHOD.md (the authors'),
+// except where the README's ablation table measured a gain (marked "paper:" below).
+#include <string>
+
+#include "nidevo/odometry/plane_tracking.hpp"
+
+namespace nidevo {
+
+enum class RotationMethod {
+  kBestPair,    // paper Sec. 3.1: every pair of planes, scored on the remaining planes
+  kClosedForm,  // weighted least squares over all planes (Kabsch/Horn via SVD)
+};
+RotationMethod parseRotationMethod(const std::string& name);  // best_pair, closed_form
+const char* toString(RotationMethod m);
+
+struct OdometryConfig {
+  // Stage 1: normal map (paper Eq. 4).
+  int normal_stride = 2;              // 2: normals at 320x240 from 640x480, as the authors
+  int cell_size = 10;                 // box-filter side (paper Table 3)
+  float depth_discontinuity = 0.05f;  // neighbour depth jump (relative) that breaks a normal
+  float min_depth_m = 0.1f;
+  float max_depth_m = 10.0f;
+
+  // Stage 2: plane tracking and rotation (paper Alg. 1, Eqs. 5-8).
+  int border_px = 10;                // in input pixels
+  float overlap_dot = 0.9f;          // key/current normals of one pixel at least this aligned
+  float crease_dot = 0.999f;         // 4-neighbour normals less aligned than this: a crease
+  float mode_dot = 0.95f;            // a pixel joins a mode within this
+  float min_plane_fraction = 0.05f;  // pixels of a mode, as a fraction of the normal map
+  float parallel_dot = 0.97f;        // two plane normals closer than this count as parallel
+  int max_modes = 16;
+  RotationMethod rotation_method = RotationMethod::kClosedForm;         // paper: kBestPair
+  PlaneNormalEstimator plane_normal = PlaneNormalEstimator::kPlaneFit;  // paper: kMedian
+  float plane_max_residual = 0.01f;          // rad; closed_form drops planes that disagree more
+  float plane_unchanged_tolerance = 0.002f;  // |n_key - n_cur| below this: the plane did not turn
+  int rotation_keyframe_interval = 5;
+  float rotation_keyframe_min_overlap = 0.065f;  // fraction; authors: 5000 px at 320x240
+  float rotation_keyframe_max_angle = 0.15f;     // rad
+
+  // Stage 3: orthographic projection, KCC, depth shift (paper Eqs. 3, 9-18).
+  int projection_width = 320;
+  int projection_height = 240;
+  int projection_stride = 2;                // project every n-th input pixel in u and v
+  float projection_inlier_fraction = 0.8f;  // mu: points inside the projection
+  bool projection_flatten_outline = true;   // empty cells: mean grey instead of 0.5 (authors),
+                                            // contrast faded towards the image border
+  float projection_border_fade = 0.1f;      // width of that fade, as a fraction of the image width
+  int projection_fill_gap = 2;              // fill holes of up to this many cells within a surface
+  float kcc_sigma = 0.2f;
+  float kcc_lambda = 0.1f;
+  float kcc_label_sigma = 0.0f;   // 0: delta label (authors); else Gaussian label, pixels
+  bool kcc_use_depth = false;     // correlate depth as a second channel
+  float kcc_depth_weight = 0.5f;  // per metre of depth difference
+  bool subpixel_peak = true;
+  // FFTW_MEASURE planning: maybe a little faster, but the plan (and so the last bits of every
+  // pose) can differ between processes. Off: the same frames give the same poses everywhere.
+  bool fft_measure = false;
+  int psr_exclusion = 5;    // side lobe excludes (2n+1)^2 around the peak
+  float psr_bound = 30.0f;  // translation keyframe renewed at or below; paper: 50 (README: seeds)
+  float psr_min = 8.0f;     // below: the KCC match is not trusted
+  float depth_gray_tolerance = 0.1f;  // Eq. 18 inlier test on intensity
+  float depth_inlier_m = 0.1f;        // Eq. 18 inlier test on the depth difference
+  int depth_iterations = 3;
+  int depth_sample_step = 2;     // Eq. 18 over every n-th cell in u and v
+  float depth_max_slope = 1.5f;  // Eq. 18 skips cells of steeper surfaces (0: off)
+
+  // Tracking state.
+  float min_valid_depth_fraction = 0.05f;
+  int max_degraded_frames = 30;  // consecutive DEGRADED frames before LOST
+
+  // Empty when valid, else a message naming the bad field.
+  std::string validate() const;
+};
+
+}  // namespace nidevo

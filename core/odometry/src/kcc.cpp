@@ -1,0 +1,203 @@
+#include "nidevo/odometry/kcc.hpp"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+#include <vector>
+
+namespace nidevo {
+
+namespace {
+
+// FFTW's planner and plan destruction are not thread-safe; executing plans is.
+std::mutex& plannerMutex() {
+  static std::mutex m;
+  return m;
+}
+
+std::complex<float>* allocComplex(size_t n) {
+  return reinterpret_cast<std::complex<float>*>(fftwf_alloc_complex(n));
+}
+
+double energy(const float* x, size_t n) {
+  double s = 0;
+  for (size_t i = 0; i < n; ++i) s += double(x[i]) * x[i];
+  return s;
+}
+
+}  // namespace
+
+KernelCrossCorrelator::KernelCrossCorrelator(int width, int height, int channels, double sigma,
+                                             double lambda, double label_sigma, bool measure_plans)
+    : width_(width), height_(height), channels_(channels), sigma_(sigma), lambda_(lambda) {
+  if (width < 4 || height < 4 || channels < 1) {
+    throw std::invalid_argument("KernelCrossCorrelator: bad size or channel count");
+  }
+  n_real_ = size_t(width) * size_t(height);
+  n_complex_ = size_t(height) * size_t(width / 2 + 1);
+  real_ = fftwf_alloc_real(n_real_);
+  response_ = fftwf_alloc_real(n_real_);
+  spectrum_ = allocComplex(n_complex_);
+  alpha_hat_ = allocComplex(n_complex_);
+  for (int c = 0; c < channels; ++c) {
+    key_hat_.push_back(allocComplex(n_complex_));
+    cur_hat_.push_back(allocComplex(n_complex_));
+  }
+  std::lock_guard<std::mutex> lock(plannerMutex());
+  // With FFTW_MEASURE, later plans of the same size reuse the process's wisdom.
+  const unsigned flags = measure_plans ? FFTW_MEASURE : FFTW_ESTIMATE;
+  plan_forward_ = fftwf_plan_dft_r2c_2d(height, width, real_,
+                                        reinterpret_cast<fftwf_complex*>(spectrum_), flags);
+  plan_inverse_ = fftwf_plan_dft_c2r_2d(height, width, reinterpret_cast<fftwf_complex*>(spectrum_),
+                                        real_, flags);
+  if (!plan_forward_ || !plan_inverse_) throw std::runtime_error("FFTW planning failed");
+  // The label y: a delta at the origin (sigma 0, the authors'), or a Gaussian of label_sigma px
+  // centred on the origin with circular wrap, which makes the peak smooth enough to interpolate.
+  label_hat_ = allocComplex(n_complex_);
+  std::vector<float> label(n_real_, 0.f);
+  if (label_sigma <= 0) {
+    label[0] = 1.f;
+  } else {
+    for (int v = 0; v < height; ++v) {
+      const int dv = std::min(v, height - v);
+      for (int u = 0; u < width; ++u) {
+        const int du = std::min(u, width - u);
+        label[size_t(v) * size_t(width) + size_t(u)] =
+            float(std::exp(-0.5 * (du * du + dv * dv) / (label_sigma * label_sigma)));
+      }
+    }
+  }
+  forward(label.data(), label_hat_);
+}
+
+KernelCrossCorrelator::~KernelCrossCorrelator() {
+  {
+    std::lock_guard<std::mutex> lock(plannerMutex());
+    fftwf_destroy_plan(static_cast<fftwf_plan>(plan_forward_));
+    fftwf_destroy_plan(static_cast<fftwf_plan>(plan_inverse_));
+  }
+  fftwf_free(real_);
+  fftwf_free(response_);
+  fftwf_free(spectrum_);
+  fftwf_free(alpha_hat_);
+  fftwf_free(label_hat_);
+  for (auto* p : key_hat_) fftwf_free(p);
+  for (auto* p : cur_hat_) fftwf_free(p);
+}
+
+void KernelCrossCorrelator::forward(const float* in, std::complex<float>* out) {
+  std::copy(in, in + n_real_, real_);
+  fftwf_execute_dft_r2c(static_cast<fftwf_plan>(plan_forward_), real_,
+                        reinterpret_cast<fftwf_complex*>(out));
+}
+
+void KernelCrossCorrelator::gaussianCorrelation(const std::complex<float>* const* a, double aa,
+                                                const std::complex<float>* const* b, double bb,
+                                                float* out) {
+  // Cross-correlation of every circular shift at once: IFFT(sum_c conj(A_c) * B_c).
+  std::fill(spectrum_, spectrum_ + n_complex_, std::complex<float>(0.f, 0.f));
+  for (int c = 0; c < channels_; ++c) {
+    for (size_t i = 0; i < n_complex_; ++i) spectrum_[i] += std::conj(a[c][i]) * b[c][i];
+  }
+  fftwf_execute_dft_c2r(static_cast<fftwf_plan>(plan_inverse_),
+                        reinterpret_cast<fftwf_complex*>(spectrum_), out);
+  const double n = double(n_real_);
+  const float inv_n = float(1.0 / n);  // FFTW's inverse is unnormalised
+  const float scale = float(-1.0 / (sigma_ * sigma_ * n));
+  const float sum = float(aa + bb);
+  for (size_t i = 0; i < n_real_; ++i) {
+    const float d2 = std::max(0.f, sum - 2.f * out[i] * inv_n);
+    out[i] = std::exp(d2 * scale);
+  }
+}
+
+void KernelCrossCorrelator::train(const float* const* channels) {
+  key_energy_ = 0;
+  for (int c = 0; c < channels_; ++c) {
+    key_energy_ += energy(channels[c], n_real_);
+    forward(channels[c], key_hat_[size_t(c)]);
+  }
+  gaussianCorrelation(key_hat_.data(), key_energy_, key_hat_.data(), key_energy_, response_);
+  forward(response_, alpha_hat_);
+  // Eq. 13: F(alpha) = F(y) / (F(k_xx) + lambda).
+  const std::complex<float> lambda(float(lambda_), 0.f);
+  for (size_t i = 0; i < n_complex_; ++i) alpha_hat_[i] = label_hat_[i] / (alpha_hat_[i] + lambda);
+  trained_ = true;
+}
+
+KccMatch KernelCrossCorrelator::match(const float* const* channels, bool subpixel,
+                                      int psr_exclusion) {
+  double cur_energy = 0;
+  for (int c = 0; c < channels_; ++c) {
+    cur_energy += energy(channels[c], n_real_);
+    forward(channels[c], cur_hat_[size_t(c)]);
+  }
+  gaussianCorrelation(key_hat_.data(), key_energy_, cur_hat_.data(), cur_energy, response_);
+  forward(response_, spectrum_);
+  for (size_t i = 0; i < n_complex_; ++i) spectrum_[i] *= alpha_hat_[i];  // Eq. 15
+  fftwf_execute_dft_c2r(static_cast<fftwf_plan>(plan_inverse_),
+                        reinterpret_cast<fftwf_complex*>(spectrum_), response_);
+
+  const int W = width_, H = height_;
+  size_t best = 0;
+  for (size_t i = 1; i < n_real_; ++i)
+    if (response_[i] > response_[best]) best = i;
+  const int pu = int(best % size_t(W)), pv = int(best / size_t(W));
+  auto at = [&](int u, int v) {
+    return double(response_[size_t((v + H) % H) * size_t(W) + size_t((u + W) % W)]);
+  };
+  KccMatch m;
+  m.peak = at(pu, pv);
+  double du = pu > W / 2 ? pu - W : pu;
+  double dv = pv > H / 2 ? pv - H : pv;
+  if (subpixel) {
+    // Quadratic surface through the 3x3 neighbourhood of the peak, with the cross term, so that a
+    // diagonal ridge does not bias the axes; on logarithms where all are positive (exact for a
+    // Gaussian peak).
+    double f[3][3];
+    bool positive = true;
+    for (int y = -1; y <= 1; ++y)
+      for (int x = -1; x <= 1; ++x) {
+        f[y + 1][x + 1] = at(pu + x, pv + y);
+        positive = positive && f[y + 1][x + 1] > 0;
+      }
+    if (positive)
+      for (auto& row : f)
+        for (double& value : row) value = std::log(value);
+    const double gx = (f[1][2] - f[1][0]) / 2, gy = (f[2][1] - f[0][1]) / 2;
+    const double hxx = f[1][2] - 2 * f[1][1] + f[1][0], hyy = f[2][1] - 2 * f[1][1] + f[0][1];
+    const double hxy = (f[2][2] - f[2][0] - f[0][2] + f[0][0]) / 4;
+    const double det = hxx * hyy - hxy * hxy;
+    if (hxx < 0 && det > 0) {  // a maximum
+      du += std::clamp(-(hyy * gx - hxy * gy) / det, -0.5, 0.5);
+      dv += std::clamp(-(hxx * gy - hxy * gx) / det, -0.5, 0.5);
+    }
+  }
+  m.du = du;
+  m.dv = dv;
+
+  double sum = 0, sum2 = 0;
+  size_t count = 0;
+  for (int v = 0; v < H; ++v) {
+    int dy = std::abs(v - pv);
+    dy = std::min(dy, H - dy);
+    for (int u = 0; u < W; ++u) {
+      int dx = std::abs(u - pu);
+      dx = std::min(dx, W - dx);
+      if (dx <= psr_exclusion && dy <= psr_exclusion) continue;
+      const double r = response_[size_t(v) * size_t(W) + size_t(u)];
+      sum += r;
+      sum2 += r * r;
+      ++count;
+    }
+  }
+  const double mean = sum / double(count);
+  const double var = std::max(0.0, sum2 / double(count) - mean * mean);
+  m.psr = var > 0 ? (m.peak - mean) / std::sqrt(var) : 0.0;
+  return m;
+}
+
+}  // namespace nidevo

@@ -1,0 +1,372 @@
+#include "nidevo/odometry/odometry.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "nidevo/odometry/motion_model.hpp"
+#include "nidevo/odometry/rotation_solver.hpp"
+
+namespace nidevo {
+
+using Eigen::Isometry3d;
+using Eigen::Matrix3d;
+
+const char* toString(TrackingState s) {
+  switch (s) {
+    case TrackingState::kOk:
+      return "OK";
+    case TrackingState::kDegraded:
+      return "DEGRADED";
+    case TrackingState::kLost:
+      return "LOST";
+  }
+  return "?";
+}
+
+const char* toString(RotationSource s) {
+  switch (s) {
+    case RotationSource::kInitial:
+      return "initial";
+    case RotationSource::kPlanes:
+      return "planes";
+    case RotationSource::kOnePlane:
+      return "one_plane";
+    case RotationSource::kPrediction:
+      return "prediction";
+  }
+  return "?";
+}
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Isometry3d rotationOnly(const Matrix3d& R) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = R;
+  return T;
+}
+
+}  // namespace
+
+struct Odometry::RotationState {
+  bool has_keyframe = false;
+  NormalMap key_normals;
+  Matrix3d R_world_key = Matrix3d::Identity();
+  int frames_since_key = 0;
+  MotionModel motion;
+  PlaneTracker tracker;
+  PlaneTrackingResult tracked;
+};
+
+struct Odometry::TranslationState {
+  TranslationState(const OdometryConfig& c)
+      : kcc(c.projection_width, c.projection_height, c.kcc_use_depth ? 2 : 1, c.kcc_sigma,
+            c.kcc_lambda, c.kcc_label_sigma, c.fft_measure) {}
+  bool has_keyframe = false;
+  OrthoImage key, cur;
+  std::vector<float> key_depth_channel, cur_depth_channel;
+  float key_mean_depth = 0;
+  double resolution = 0;
+  Isometry3d T_world_key = Isometry3d::Identity();
+  MotionModel motion;
+  int degraded_frames = 0;
+  KernelCrossCorrelator kcc;
+  OrthoProjector projector;
+  DepthShiftEstimator depth_shift;
+};
+
+Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
+    : camera_(camera), config_(config) {
+  if (auto e = camera.validate(); !e.empty()) throw std::invalid_argument("camera: " + e);
+  if (auto e = config.validate(); !e.empty()) throw std::invalid_argument("config: " + e);
+  if (camera.width / config.normal_stride < 2 * config.cell_size + 8 ||
+      camera.height / config.normal_stride < 2 * config.cell_size + 8) {
+    throw std::invalid_argument("camera: image too small for normal_stride and cell_size");
+  }
+  // Contrast fades out towards the image border (raised cosine over the outer margin).
+  const int stride = config_.projection_stride;
+  const int W = camera_.width / stride, H = camera_.height / stride;
+  const float margin = config_.projection_border_fade * float(W);
+  point_weight_.assign(size_t(W) * size_t(H), 1.f);
+  if (margin > 0) {
+    for (int v = 0; v < H; ++v) {
+      for (int u = 0; u < W; ++u) {
+        const float d = float(std::min({u, v, W - 1 - u, H - 1 - v}));
+        if (d < margin)
+          point_weight_[size_t(v) * size_t(W) + size_t(u)] =
+              0.5f - 0.5f * std::cos(float(M_PI) * d / margin);
+      }
+    }
+  }
+  // Camera::backproject's per-pixel divisions, done once per column and row.
+  ray_x_.resize(size_t(W));
+  ray_y_.resize(size_t(H));
+  for (int u = 0; u < W; ++u)
+    ray_x_[size_t(u)] = float((float(u * stride) - camera_.cx) / camera_.fx);
+  for (int v = 0; v < H; ++v)
+    ray_y_[size_t(v)] = float((float(v * stride) - camera_.cy) / camera_.fy);
+  rot_ = std::make_unique<RotationState>();
+  trans_ = std::make_unique<TranslationState>(config_);
+}
+
+Odometry::~Odometry() = default;
+
+void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (std::string e = camera_.checkImageSize(frame.depth.width, frame.depth.height); !e.empty())
+    throw std::invalid_argument("depth " + e);
+  if (std::string e = camera_.checkImageSize(frame.gray.width, frame.gray.height); !e.empty())
+    throw std::invalid_argument("grey " + e);
+  // Image's fields are public: a caller may have changed the size without the pixels.
+  const size_t pixels = size_t(camera_.width) * size_t(camera_.height);
+  if (frame.depth.size() != pixels || frame.gray.size() != pixels)
+    throw std::invalid_argument("image holds a pixel count other than width x height");
+  s->timestamp = frame.timestamp;
+  s->normal_builder.compute(frame.depth, camera_, config_.normal_stride, config_.cell_size,
+                            config_.depth_discontinuity, config_.min_depth_m, config_.max_depth_m,
+                            config_.crease_dot, &s->normals);
+  const int stride = config_.projection_stride;
+  const int W = camera_.width / stride, H = camera_.height / stride;
+  for (auto* plane : {&s->cloud_x, &s->cloud_y, &s->cloud_z}) plane->resize(size_t(W) * size_t(H));
+  s->intensity.resize(size_t(W) * size_t(H));
+  int valid = 0;
+  for (int v = 0; v < H; ++v) {
+    const float* depth_row = &frame.depth.data[size_t(v * stride) * size_t(camera_.width)];
+    const uint8_t* gray_row = &frame.gray.data[size_t(v * stride) * size_t(camera_.width)];
+    const float ry = ray_y_[size_t(v)];
+    for (int u = 0; u < W; ++u) {
+      float z = depth_row[u * stride];
+      if (!(z >= config_.min_depth_m && z <= config_.max_depth_m)) z = 0.f;
+      valid += z > 0.f;
+      const size_t i = size_t(v) * size_t(W) + size_t(u);
+      s->cloud_x[i] = ray_x_[size_t(u)] * z;
+      s->cloud_y[i] = ry * z;
+      s->cloud_z[i] = z;
+      s->intensity[i] = float(gray_row[u * stride]) * (1.f / 255.f);
+    }
+  }
+  s->depth_ok =
+      valid >= config_.min_valid_depth_fraction * float(W * H) && s->normals.validCount() > 0;
+  s->times = StageTimes{};
+  s->times.normals_s = secondsSince(t0);
+}
+
+void Odometry::estimateRotation(FrameState* s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RotationState& r = *rot_;
+  const Matrix3d R_pred = r.motion.predict().linear();
+  s->planes_used = 0;
+  s->overlap_pixels = 0;
+  s->rotation_keyframe = false;
+
+  if (!s->depth_ok) {
+    s->R_world_cam = R_pred;
+    s->rotation_source = RotationSource::kPrediction;
+  } else if (!r.has_keyframe) {
+    s->R_world_cam = R_pred;
+    s->rotation_source = RotationSource::kInitial;
+    s->rotation_keyframe = true;
+  } else {
+    const int px = s->normals.width * s->normals.height;
+    PlaneTrackingParams params;
+    params.border = config_.border_px / config_.normal_stride;
+    params.overlap_dot = config_.overlap_dot;
+    params.mode_dot = config_.mode_dot;
+    params.min_plane_pixels = std::max(1, int(config_.min_plane_fraction * float(px)));
+    params.max_modes = config_.max_modes;
+    params.estimator = config_.plane_normal;
+    r.tracker.track(r.key_normals, s->normals, params, &r.tracked);
+    s->overlap_pixels = r.tracked.overlap_pixels;
+
+    const Matrix3d R_key_pred = r.R_world_key.transpose() * R_pred;
+    Matrix3d R_key_cur;
+    const auto solution =
+        solveRotation(r.tracked.planes, config_.rotation_method, config_.parallel_dot,
+                      config_.plane_unchanged_tolerance, config_.plane_max_residual);
+    if (solution) {
+      R_key_cur = solution->rotation;
+      s->planes_used = solution->planes_used;
+      s->rotation_source = RotationSource::kPlanes;
+    } else if (!r.tracked.planes.empty()) {
+      const PlanePair& p = r.tracked.planes.front();
+      R_key_cur =
+          minimalRotation(R_key_pred * p.cur.cast<double>(), p.key.cast<double>()) * R_key_pred;
+      s->planes_used = 1;
+      s->rotation_source = RotationSource::kOnePlane;
+    } else {
+      R_key_cur = R_key_pred;
+      s->rotation_source = RotationSource::kPrediction;
+    }
+    s->R_world_cam = r.R_world_key * R_key_cur;
+    const double angle = Eigen::AngleAxisd(R_key_cur).angle();
+    s->rotation_keyframe = ++r.frames_since_key >= config_.rotation_keyframe_interval ||
+                           s->overlap_pixels < config_.rotation_keyframe_min_overlap * float(px) ||
+                           angle >= config_.rotation_keyframe_max_angle;
+  }
+  // Re-orthonormalise so that rounding never accumulates into a non-rotation.
+  s->R_world_cam = Eigen::Quaterniond(s->R_world_cam).normalized().toRotationMatrix();
+  if (s->rotation_keyframe) {
+    r.has_keyframe = true;
+    r.key_normals.width = s->normals.width;
+    r.key_normals.height = s->normals.height;
+    r.key_normals.normal.assign(s->normals.normal.begin(), s->normals.normal.end());
+    r.key_normals.valid.assign(s->normals.valid.begin(), s->normals.valid.end());
+    r.key_normals.points.assign(s->normals.points.begin(), s->normals.points.end());
+    r.key_normals.smooth.assign(s->normals.smooth.begin(), s->normals.smooth.end());
+    r.R_world_key = s->R_world_cam;
+    r.frames_since_key = 0;
+  }
+  r.motion.update(rotationOnly(s->R_world_cam), s->rotation_source == RotationSource::kPlanes ||
+                                                    s->rotation_source == RotationSource::kInitial);
+  s->times.rotation_s = secondsSince(t0);
+}
+
+CloudView Odometry::projectionCloud(const FrameState& s) const {
+  return {s.cloud_x.data(),   s.cloud_y.data(), s.cloud_z.data(),
+          s.intensity.data(), s.cloud_z.size(), point_weight_.data()};
+}
+
+// Both the keyframe and the current frame go through the same projection, so that their images
+// differ only by the motion.
+void Odometry::projectForCorrelation(const CloudView& cloud, const Eigen::Matrix3f& R,
+                                     OrthoImage* image) const {
+  trans_->projector.project(cloud, R, trans_->resolution, config_.projection_width,
+                            config_.projection_height, image);
+  trans_->projector.fillGaps(image, config_.projection_fill_gap, config_.depth_discontinuity);
+  if (config_.projection_flatten_outline) OrthoProjector::flattenOutline(image);
+}
+
+const float* Odometry::depthChannel(const OrthoImage& image, float mean_depth,
+                                    std::vector<float>* channel) const {
+  channel->resize(image.depth.size());
+  for (size_t i = 0; i < image.depth.size(); ++i) {
+    const float d = image.depth[i];
+    (*channel)[i] = d > 0.f ? config_.kcc_depth_weight * (d - mean_depth) : 0.f;
+  }
+  return channel->data();
+}
+
+void Odometry::makeTranslationKeyframe(const FrameState& s, const Isometry3d& T_world_cam) {
+  TranslationState& t = *trans_;
+  const CloudView cloud = projectionCloud(s);
+  const double r =
+      t.projector.resolutionFor(cloud, Eigen::Matrix3f::Identity(), config_.projection_width,
+                                config_.projection_height, config_.projection_inlier_fraction);
+  if (r <= 0) return;
+  t.resolution = r;
+  projectForCorrelation(cloud, Eigen::Matrix3f::Identity(), &t.key);
+  const float* channels[2] = {t.key.gray.data(), nullptr};
+  if (config_.kcc_use_depth) {
+    double sum = 0;
+    int n = 0;
+    for (float d : t.key.depth)
+      if (d > 0.f) sum += d, ++n;
+    t.key_mean_depth = n ? float(sum / n) : 0.f;
+    channels[1] = depthChannel(t.key, t.key_mean_depth, &t.key_depth_channel);
+  }
+  t.kcc.train(channels);
+  t.T_world_key = T_world_cam;
+  t.has_keyframe = true;
+}
+
+PoseEstimate Odometry::estimateTranslation(FrameState* s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  TranslationState& t = *trans_;
+  PoseEstimate out;
+  out.frame_index = s->frame_index;
+  out.timestamp = s->timestamp;
+  out.planes_used = s->planes_used;
+  out.rotation_source = s->rotation_source;
+  out.rotation_keyframe = s->rotation_keyframe;
+  out.overlap_pixels = s->overlap_pixels;
+
+  const Isometry3d T_pred = t.motion.predict();
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = s->R_world_cam;
+  const char* translation_problem = nullptr;
+
+  if (!s->depth_ok) {
+    T.translation() = T_pred.translation();
+    translation_problem = "too little valid depth; pose predicted";
+  } else if (!t.has_keyframe) {
+    T.translation() = T_pred.translation();
+    makeTranslationKeyframe(*s, T);
+    out.translation_keyframe = t.has_keyframe;
+  } else {
+    const Matrix3d R_key_cur = t.T_world_key.linear().transpose() * s->R_world_cam;
+    projectForCorrelation(projectionCloud(*s), R_key_cur.cast<float>(), &t.cur);
+    const float* channels[2] = {t.cur.gray.data(), nullptr};
+    if (config_.kcc_use_depth) {
+      channels[1] = depthChannel(t.cur, t.key_mean_depth, &t.cur_depth_channel);
+    }
+    const KccMatch m = t.kcc.match(channels, config_.subpixel_peak, config_.psr_exclusion);
+    out.psr = m.psr;
+    DepthShift dz;
+    if (m.psr >= config_.psr_min) {
+      DepthShiftParams dp;
+      dp.gray_tolerance = config_.depth_gray_tolerance;
+      dp.inlier_m = config_.depth_inlier_m;
+      dp.iterations = config_.depth_iterations;
+      dp.max_slope = config_.depth_max_slope;
+      dp.sample_step = config_.depth_sample_step;
+      dp.resolution = t.resolution;
+      dz = t.depth_shift.estimate(t.key, t.cur, m.du, m.dv, dp);
+    }
+    if (m.psr < config_.psr_min) {
+      translation_problem = "low PSR; translation predicted";
+    } else if (dz.inliers == 0) {
+      translation_problem = "no depth match; translation predicted";
+    }
+    if (translation_problem) {
+      T.translation() = T_pred.translation();
+    } else {
+      Isometry3d T_key_cur = Isometry3d::Identity();
+      T_key_cur.linear() = R_key_cur;
+      T_key_cur.translation() = Eigen::Vector3d(-m.du * t.resolution, -m.dv * t.resolution, dz.dz);
+      T = t.T_world_key * T_key_cur;
+      T.linear() = s->R_world_cam;  // keep stage 2's rotation exactly
+    }
+    if (m.psr <= config_.psr_bound) {
+      makeTranslationKeyframe(*s, T);
+      out.translation_keyframe = true;
+    }
+  }
+  out.projection_resolution = t.resolution;
+
+  const char* rotation_problem = nullptr;
+  if (s->depth_ok && s->rotation_source == RotationSource::kOnePlane) {
+    rotation_problem = "one plane; rotation partly predicted";
+  } else if (s->depth_ok && s->rotation_source == RotationSource::kPrediction) {
+    rotation_problem = "fewer than two non-parallel planes; rotation predicted";
+  }
+  if (!s->depth_ok) {
+    out.state = TrackingState::kLost;
+    out.reason = translation_problem;
+    ++t.degraded_frames;
+  } else if (translation_problem || rotation_problem) {
+    out.state = ++t.degraded_frames > config_.max_degraded_frames ? TrackingState::kLost
+                                                                  : TrackingState::kDegraded;
+    out.reason = rotation_problem ? rotation_problem : translation_problem;
+  } else {
+    t.degraded_frames = 0;
+  }
+  out.T_world_cam = T;
+  t.motion.update(T, out.state == TrackingState::kOk);
+  s->times.translation_s = secondsSince(t0);
+  out.times = s->times;
+  return out;
+}
+
+PoseEstimate Odometry::track(const RgbdFrame& frame) {
+  own_state_.frame_index = next_index_++;
+  computeNormals(frame, &own_state_);
+  estimateRotation(&own_state_);
+  return estimateTranslation(&own_state_);
+}
+
+}  // namespace nidevo

@@ -1,0 +1,69 @@
+#include "nidevo/odometry/odometry_config.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace nidevo {
+
+RotationMethod parseRotationMethod(const std::string& name) {
+  if (name == "best_pair") return RotationMethod::kBestPair;
+  if (name == "closed_form") return RotationMethod::kClosedForm;
+  throw std::invalid_argument("unknown rotation method '" + name + "' (best_pair, closed_form)");
+}
+
+const char* toString(RotationMethod m) {
+  return m == RotationMethod::kBestPair ? "best_pair" : "closed_form";
+}
+
+std::string OdometryConfig::validate() const {
+  auto in = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+  if (normal_stride < 1 || normal_stride > 4) return "normal_stride must be in 1..4";
+  if (cell_size < 1 || cell_size > 64) return "cell_size must be in 1..64";
+  if (!in(depth_discontinuity, 1e-4, 1)) return "depth_discontinuity must be in [1e-4, 1]";
+  if (!in(min_depth_m, 0, 100) || !in(max_depth_m, 0, 1000) || min_depth_m >= max_depth_m)
+    return "min_depth_m must be below max_depth_m";
+  if (border_px < 0 || border_px > 200) return "border_px must be in 0..200";
+  if (!in(overlap_dot, 0, 1)) return "overlap_dot must be in [0, 1]";
+  if (!in(crease_dot, 0, 1)) return "crease_dot must be in [0, 1]";
+  if (!in(mode_dot, 0, 1)) return "mode_dot must be in [0, 1]";
+  if (!in(min_plane_fraction, 1e-4, 1)) return "min_plane_fraction must be in [1e-4, 1]";
+  if (!in(parallel_dot, 0, 1)) return "parallel_dot must be in [0, 1]";
+  if (!in(plane_unchanged_tolerance, 0, 0.5))
+    return "plane_unchanged_tolerance must be in [0, 0.5]";
+  if (!in(plane_max_residual, 1e-5, 1)) return "plane_max_residual must be in [1e-5, 1]";
+  if (max_modes < 2 || max_modes > 64) return "max_modes must be in 2..64";
+  if (rotation_keyframe_interval < 1) return "rotation_keyframe_interval must be at least 1";
+  if (!in(rotation_keyframe_min_overlap, 0, 1))
+    return "rotation_keyframe_min_overlap must be in [0, 1]";
+  if (!in(rotation_keyframe_max_angle, 0, 1.5))
+    return "rotation_keyframe_max_angle must be in [0, 1.5]";
+  if (projection_width < 16 || projection_width > 4096 || projection_width % 2)
+    return "projection_width must be even and in 16..4096";
+  if (projection_height < 16 || projection_height > 4096 || projection_height % 2)
+    return "projection_height must be even and in 16..4096";
+  if (projection_stride < 1 || projection_stride > 8) return "projection_stride must be in 1..8";
+  if (!in(projection_inlier_fraction, 0.05, 1))
+    return "projection_inlier_fraction must be in [0.05, 1]";
+  if (projection_fill_gap < 0 || projection_fill_gap > 16)
+    return "projection_fill_gap must be in 0..16";
+  if (!in(projection_border_fade, 0, 0.5)) return "projection_border_fade must be in [0, 0.5]";
+  if (!in(kcc_sigma, 1e-3, 100)) return "kcc_sigma must be in [1e-3, 100]";
+  if (!in(kcc_lambda, 1e-6, 1e3)) return "kcc_lambda must be in [1e-6, 1e3]";
+  if (!in(kcc_label_sigma, 0, 50)) return "kcc_label_sigma must be in [0, 50]";
+  if (!in(kcc_depth_weight, 0, 100)) return "kcc_depth_weight must be in [0, 100]";
+  if (psr_exclusion < 0 || 2 * psr_exclusion + 1 >= projection_width / 2 ||
+      2 * psr_exclusion + 1 >= projection_height / 2)
+    return "psr_exclusion must be non-negative and small against the projection";
+  if (!in(psr_bound, 0, 1e6)) return "psr_bound must be non-negative";
+  if (!in(psr_min, 0, 1e6) || psr_min > psr_bound) return "psr_min must be in [0, psr_bound]";
+  if (!in(depth_gray_tolerance, 0, 1)) return "depth_gray_tolerance must be in [0, 1]";
+  if (!in(depth_inlier_m, 1e-4, 10)) return "depth_inlier_m must be in [1e-4, 10]";
+  if (!in(depth_max_slope, 0, 100)) return "depth_max_slope must be in [0, 100]";
+  if (depth_sample_step < 1 || depth_sample_step > 8) return "depth_sample_step must be in 1..8";
+  if (depth_iterations < 1 || depth_iterations > 20) return "depth_iterations must be in 1..20";
+  if (!in(min_valid_depth_fraction, 0, 1)) return "min_valid_depth_fraction must be in [0, 1]";
+  if (max_degraded_frames < 1) return "max_degraded_frames must be at least 1";
+  return {};
+}
+
+}  // namespace nidevo

@@ -1,0 +1,181 @@
+#include "nidevo/odometry/plane_tracking.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace nidevo {
+
+PlaneNormalEstimator parsePlaneNormalEstimator(const std::string& name) {
+  if (name == "median") return PlaneNormalEstimator::kMedian;
+  if (name == "fit") return PlaneNormalEstimator::kPlaneFit;
+  throw std::invalid_argument("unknown plane normal estimator '" + name + "' (median, fit)");
+}
+
+const char* toString(PlaneNormalEstimator e) {
+  return e == PlaneNormalEstimator::kMedian ? "median" : "fit";
+}
+
+namespace {
+
+struct Plane {
+  Eigen::Vector3f normal;
+  Eigen::Vector3f centroid;
+};
+
+// Least-squares plane through the points of `pixels`, its normal on the side of the smoothed
+// normals (towards the camera).
+Plane fitPlane(const NormalMap& map, const int* pixels, size_t count) {
+  // Plain scalar sums (the outer product's 6 distinct entries; x*y == y*x exactly): Eigen's
+  // Matrix3d accumulator lived on the stack, one store-to-load round trip per pixel.
+  double sx = 0, sy = 0, sz = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+  double nx = 0, ny = 0, nz = 0;
+  for (size_t k = 0; k < count; ++k) {
+    const Eigen::Vector3f& p = map.points[size_t(pixels[k])];
+    const Eigen::Vector3f& n = map.normal[size_t(pixels[k])];
+    const double x = p.x(), y = p.y(), z = p.z();
+    sx += x, sy += y, sz += z;
+    xx += x * x, xy += x * y, xz += x * z, yy += y * y, yz += y * z, zz += z * z;
+    nx += double(n.x()), ny += double(n.y()), nz += double(n.z());
+  }
+  const Eigen::Vector3d sum(sx, sy, sz), mean_normal(nx, ny, nz);
+  Eigen::Matrix3d outer;
+  outer << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  const Eigen::Vector3d centroid = sum / double(count);
+  const Eigen::Matrix3d cov = outer / double(count) - centroid * centroid.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(cov);
+  Eigen::Vector3d normal = eig.eigenvectors().col(0);  // smallest eigenvalue
+  if (normal.dot(mean_normal) < 0) normal = -normal;
+  return {normal.cast<float>(), centroid.cast<float>()};
+}
+
+}  // namespace
+
+Eigen::Vector3f PlaneTracker::medianNormal(const NormalMap& map, const int* pixels, size_t count) {
+  Eigen::Vector3f r;
+  for (int c = 0; c < 3; ++c) {
+    for (size_t k = 0; k < count; ++k) scratch_[k] = map.normal[size_t(pixels[k])][c];
+    r[c] = kth_smallest_(scratch_.data(), count, count / 2);
+  }
+  return r.normalized();
+}
+
+PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, int* pixels,
+                                   size_t count, const PlaneTrackingParams& p) {
+  // A mode holds every surface of one orientation within acos(mode_dot): keep the pixels in a
+  // narrow cone around its median orientation, then the dominant offset n.p only (the largest of
+  // parallel planes), chosen in the keyframe and used for both frames.
+  const Eigen::Vector3f axis = medianNormal(key, pixels, count);
+  size_t kept = 0;
+  for (size_t k = 0; k < count; ++k) {
+    if (key.normal[size_t(pixels[k])].dot(axis) >= p.fit_cone_dot) pixels[kept++] = pixels[k];
+  }
+  constexpr float kBin = 0.02f;  // metres
+  constexpr int kBins = 1024;
+  histogram_.assign(kBins, 0);
+  auto bin_of = [&](int pixel) {
+    return std::clamp(int(std::floor(-axis.dot(key.points[size_t(pixel)]) / kBin)), 0, kBins - 1);
+  };
+  for (size_t k = 0; k < kept; ++k) ++histogram_[size_t(bin_of(pixels[k]))];
+  int peak = 1, best = -1;  // the densest window of three bins
+  for (int b = 1; b + 1 < kBins; ++b) {
+    const int w = histogram_[size_t(b - 1)] + histogram_[size_t(b)] + histogram_[size_t(b + 1)];
+    if (w > best) best = w, peak = b;
+  }
+  const float d0 = (float(peak) + 0.5f) * kBin, tolerance = 0.05f + 0.03f * d0;
+  count = kept;
+  kept = 0;
+  for (size_t k = 0; k < count; ++k) {
+    if (std::abs(-axis.dot(key.points[size_t(pixels[k])]) - d0) < tolerance)
+      pixels[kept++] = pixels[k];
+  }
+  count = kept;
+  if (count < 3) return {axis, axis, 0};
+
+  // Points of a neighbouring surface whose smoothed normals lean towards this plane (near a
+  // shallow crease) pull the fit: refit on the points close to both frames' planes.
+  Plane pk = fitPlane(key, pixels, count), pc = fitPlane(cur, pixels, count);
+  for (int iteration = 0; iteration < 2; ++iteration) {
+    for (size_t k = 0; k < count; ++k) {
+      const size_t i = size_t(pixels[k]);
+      scratch_[k] =
+          std::max(std::abs(pk.normal.dot(key.points[i] - pk.centroid)) / key.points[i].z(),
+                   std::abs(pc.normal.dot(cur.points[i] - pc.centroid)) / cur.points[i].z());
+    }
+    std::copy(scratch_.begin(), scratch_.begin() + long(count), residual_.begin());
+    const float median = kth_smallest_(residual_.data(), count, count / 2);
+    const float limit = std::max(3.f * 1.4826f * median, 1e-4f);
+    kept = 0;
+    for (size_t k = 0; k < count; ++k)
+      if (scratch_[k] <= limit) pixels[kept++] = pixels[k];
+    if (kept < 3 || kept == count) break;
+    count = kept;
+    pk = fitPlane(key, pixels, count);
+    pc = fitPlane(cur, pixels, count);
+  }
+  return {pk.normal, pc.normal, int(count)};
+}
+
+void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const PlaneTrackingParams& p,
+                         PlaneTrackingResult* out) {
+  const int W = key.width, H = key.height;
+  const size_t n = size_t(W) * size_t(H);
+  overlap_pixel_.resize(n);
+  overlap_mode_.resize(n);
+  members_.resize(n);
+  scratch_.resize(n);
+  residual_.resize(n);
+  kth_smallest_.reserve(n);
+  seeds_.resize(size_t(p.max_modes));
+  counts_.assign(size_t(p.max_modes) + 1, 0);
+  out->overlap_pixels = 0;
+  out->planes.clear();
+
+  // Alg. 1: a pixel co-planar in both frames joins the first mode within mode_dot of its
+  // keyframe normal, or opens a new one.
+  const int border = std::max(p.border, 1);
+  int modes = 0;
+  size_t overlap = 0;
+  for (int v = border; v < H - border; ++v) {
+    for (int u = border; u < W - border; ++u) {
+      const size_t i = size_t(v) * size_t(W) + size_t(u);
+      if (!key.smooth[i] || !cur.smooth[i]) continue;
+      const Eigen::Vector3f& nk = key.normal[i];
+      if (nk.dot(cur.normal[i]) < p.overlap_dot) continue;
+      ++out->overlap_pixels;
+      int m = 0;
+      while (m < modes && nk.dot(seeds_[size_t(m)]) < p.mode_dot) ++m;
+      if (m == modes) {
+        if (modes == p.max_modes) continue;
+        seeds_[size_t(modes++)] = nk;
+      }
+      overlap_pixel_[overlap] = int(i);
+      overlap_mode_[overlap++] = int8_t(m);
+      ++counts_[size_t(m) + 1];
+    }
+  }
+  // Group the pixels by mode (counting sort): mode m owns members_[counts_[m] .. counts_[m+1]).
+  for (int m = 0; m < modes; ++m) counts_[size_t(m) + 1] += counts_[size_t(m)];
+  offsets_.assign(counts_.begin(), counts_.end());
+  for (size_t k = 0; k < overlap; ++k)
+    members_[size_t(offsets_[size_t(overlap_mode_[k])]++)] = overlap_pixel_[k];
+
+  for (int m = 0; m < modes; ++m) {
+    int* pixels = &members_[size_t(counts_[size_t(m)])];
+    const size_t count = size_t(counts_[size_t(m) + 1] - counts_[size_t(m)]);
+    if (int(count) < p.min_plane_pixels) continue;
+    if (p.estimator == PlaneNormalEstimator::kMedian) {
+      out->planes.push_back(
+          {medianNormal(key, pixels, count), medianNormal(cur, pixels, count), int(count)});
+    } else {
+      const PlanePair pair = fittedPair(key, cur, pixels, count, p);
+      if (pair.pixels >= p.min_plane_pixels) out->planes.push_back(pair);
+    }
+  }
+  std::sort(out->planes.begin(), out->planes.end(),
+            [](const PlanePair& a, const PlanePair& b) { return a.pixels > b.pixels; });
+}
+
+}  // namespace nidevo
