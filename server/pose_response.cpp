@@ -60,4 +60,14 @@ void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose, v1::Trac
   times->set_translation(pose.times.translation_s);
 }
 
+v1::TrackResponse rejectionResponse(const v1::Frame& frame, v1::FrameStatus status,
+                                    const std::string& reason) {
+  v1::TrackResponse r;
+  r.set_sequence(frame.sequence());
+  r.set_timestamp(frame.timestamp());
+  r.set_status(status);
+  r.set_reason(reason);
+  return r;
+}
+
 }  // namespace nidevo::server

@@ -19,6 +19,21 @@ double secondsBetween(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
 
+FrameOutcome outcomeOf(v1::FrameStatus status) {
+  switch (status) {
+    case v1::FRAME_STATUS_OK:
+      return FrameOutcome::kOk;
+    case v1::FRAME_STATUS_DEGRADED:
+      return FrameOutcome::kDegraded;
+    case v1::FRAME_STATUS_LOST:
+      return FrameOutcome::kLost;
+    case v1::FRAME_STATUS_DROPPED:
+      return FrameOutcome::kDropped;
+    default:
+      return FrameOutcome::kError;
+  }
+}
+
 }  // namespace
 
 Session::Session(grpc::CallbackServerContext* context, SessionEnvironment env)
@@ -43,7 +58,7 @@ void Session::OnReadDone(bool ok) {
   const Clock::time_point now = Clock::now();
   last_activity_ = now;
   if (finish_pending_ || finish_called_) return;
-  if (!configured_) {
+  if (!pipeline_) {
     if (read_msg_.kind_case() != v1::TrackRequest::kConfig) {
       finish(grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
                           "config: the first message of a stream must be a SessionConfig"));
@@ -62,8 +77,8 @@ void Session::OnReadDone(bool ok) {
                         "frame: message carries neither a config nor a frame"));
     return;
   }
-  admit(read_msg_.mutable_frame(), now);
-  schedule();
+  pipeline_->admit(read_msg_.mutable_frame(), now);
+  pipeline_->schedule();
   startReadIfWanted();
 }
 
@@ -95,94 +110,30 @@ void Session::configure(const v1::SessionConfig& config) {
       error = std::string("config.camera: ") + e.what();
     }
     std::unique_lock<std::mutex> lock(mutex_);
-    if (!error.empty()) {
+    if (!error.empty())
       finish(grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, error));
-    } else {
-      decoder_ = decoder;
-      odometry_ = std::move(odometry);
-      for (size_t i = 0; i < kSlots; ++i) slots_.push_back(std::make_unique<Slot>());
-      configured_ = true;
-      last_activity_ = Clock::now();
-      startReadIfWanted();
-    }
+    else
+      startPipeline(decoder, std::move(odometry));
     taskDone(std::move(lock));
   });
 }
 
-void Session::admit(v1::Frame* frame, Clock::time_point arrival) {
-  const double t = frame->timestamp();
-  if (!std::isfinite(t) || (have_timestamp_ && !(t > last_timestamp_))) {
-    std::ostringstream why;
-    why.precision(17);
-    why << "frame.timestamp: " << t << " does not increase (previous " << last_timestamp_ << ")";
-    env_.metrics->frame(FrameOutcome::kError);
-    pushResponse(rejection(*frame, v1::FRAME_STATUS_ERROR, why.str()));
-    return;
-  }
-  have_timestamp_ = true;
-  last_timestamp_ = t;
-  if (queue_.size() >= queue_capacity_) {  // only under LATEST: BLOCK stops reading first
-    env_.metrics->frame(FrameOutcome::kDropped);
-    pushResponse(rejection(queue_.front().frame, v1::FRAME_STATUS_DROPPED,
-                           "dropped: session queue full (overload policy LATEST)"));
-    queue_.pop_front();
-    env_.metrics->queuedFrames(-1);
-  }
-  queue_.emplace_back();
-  queue_.back().frame.Swap(frame);
-  queue_.back().arrival = arrival;
-  env_.metrics->queuedFrames(+1);
-}
-
-Session::Slot* Session::slotWithTicket(uint64_t ticket, SlotStage stage) {
-  for (auto& s : slots_)
-    if (s->stage == stage && s->ticket == ticket) return s.get();
-  return nullptr;
-}
-
-void Session::schedule() {
-  if (finish_pending_ || finish_called_ || !configured_) return;
-  for (auto& s : slots_) {
-    if (queue_.empty()) break;
-    if (s->stage != SlotStage::kFree) continue;
-    Slot* slot = s.get();
-    slot->pending.frame.Swap(&queue_.front().frame);
-    slot->pending.arrival = queue_.front().arrival;
-    queue_.pop_front();
-    env_.metrics->queuedFrames(-1);
-    slot->ticket = next_ticket_++;
-    slot->state.frame_index = slot->ticket;
-    slot->stage = SlotStage::kNormals;
-    runTask([this, slot] { runNormals(slot); });
-  }
-  // Stage 2 in ticket order; frames that failed to decode pass straight through.
-  while (!rotation_running_) {
-    Slot* slot = slotWithTicket(next_rotation_, SlotStage::kNormalsDone);
-    if (!slot) break;
-    if (!slot->error.empty()) {
-      slot->stage = SlotStage::kRotationDone;
-      ++next_rotation_;
-      continue;
-    }
-    slot->stage = SlotStage::kRotation;
-    rotation_running_ = true;
-    runTask([this, slot] { runRotation(slot); });
-  }
-  while (!translation_running_) {
-    Slot* slot = slotWithTicket(next_translation_, SlotStage::kRotationDone);
-    if (!slot) break;
-    if (!slot->error.empty()) {
-      env_.metrics->frame(FrameOutcome::kError);
-      pushResponse(rejection(slot->pending.frame, v1::FRAME_STATUS_ERROR, slot->error));
-      slot->stage = SlotStage::kFree;
-      ++next_translation_;
-      schedule();  // the freed slot can take a queued frame
-      return;
-    }
-    slot->stage = SlotStage::kTranslation;
-    translation_running_ = true;
-    runTask([this, slot] { runTranslation(slot); });
-  }
+void Session::startPipeline(std::shared_ptr<const FrameDecoder> decoder,
+                            std::unique_ptr<Odometry> odometry) {
+  stages_ = std::make_unique<OdometryStages>(std::move(decoder), std::move(odometry), env_.metrics);
+  FramePipelineHooks hooks;
+  hooks.run_task = [this](std::function<void()> task) { runTask(std::move(task)); };
+  hooks.answer = [this](v1::TrackResponse response) { answer(std::move(response)); };
+  hooks.queue_changed = [this](int delta) { env_.metrics->queuedFrames(delta); };
+  hooks.queue_drained = [this] { startReadIfWanted(); };
+  hooks.task_done = [this](std::unique_lock<std::mutex> lock) { taskDone(std::move(lock)); };
+  pipeline_ = std::make_unique<FramePipeline>(&mutex_, stages_.get(),
+                                              policy_ == v1::OVERLOAD_POLICY_LATEST
+                                                  ? FramePipeline::Policy::kLatest
+                                                  : FramePipeline::Policy::kBlock,
+                                              queue_capacity_, kSlots, std::move(hooks));
+  last_activity_ = Clock::now();
+  startReadIfWanted();
 }
 
 void Session::runTask(std::function<void()> work) {
@@ -190,97 +141,9 @@ void Session::runTask(std::function<void()> work) {
   env_.pool->submit(std::move(work));
 }
 
-// A frame whose turn it is goes on to its next stage on the same worker: no queue hop, which
-// keeps a lone session's latency close to its compute time. Other frames are dispatched too.
-bool Session::claimNextStage(Slot* slot) {
-  if (finish_pending_ || finish_called_ || !slot->error.empty()) return false;
-  if (slot->stage == SlotStage::kNormalsDone && !rotation_running_ &&
-      slot->ticket == next_rotation_) {
-    slot->stage = SlotStage::kRotation;
-    rotation_running_ = true;
-  } else if (slot->stage == SlotStage::kRotationDone && !translation_running_ &&
-             slot->ticket == next_translation_) {
-    slot->stage = SlotStage::kTranslation;
-    translation_running_ = true;
-  } else {
-    return false;
-  }
-  schedule();
-  startReadIfWanted();
-  return true;
-}
-
-void Session::runNormals(Slot* slot) {
-  const Clock::time_point start = Clock::now();
-  slot->queue_s = secondsBetween(slot->pending.arrival, start);
-  slot->error = decoder_->decode(slot->pending.frame, &slot->image);
-  slot->decode_s = secondsBetween(start, Clock::now());
-  if (slot->error.empty()) {
-    try {
-      odometry_->computeNormals(slot->image, &slot->state);
-    } catch (const std::exception& e) {
-      slot->error = std::string("frame: ") + e.what();
-    }
-  }
-  std::unique_lock<std::mutex> lock(mutex_);
-  slot->stage = SlotStage::kNormalsDone;
-  if (claimNextStage(slot)) {
-    lock.unlock();
-    runRotation(slot);
-    return;
-  }
-  taskDone(std::move(lock));
-}
-
-void Session::runRotation(Slot* slot) {
-  odometry_->estimateRotation(&slot->state);
-  std::unique_lock<std::mutex> lock(mutex_);
-  slot->stage = SlotStage::kRotationDone;
-  rotation_running_ = false;
-  ++next_rotation_;
-  if (claimNextStage(slot)) {
-    lock.unlock();
-    runTranslation(slot);
-    return;
-  }
-  taskDone(std::move(lock));
-}
-
-void Session::runTranslation(Slot* slot) {
-  const PoseEstimate pose = odometry_->estimateTranslation(&slot->state);
-  v1::TrackResponse response;
-  fillPoseResponse(slot->pending.frame, pose, &response);
-  auto* t = response.mutable_timings();
-  t->set_queue(slot->queue_s);
-  t->set_decode(slot->decode_s);
-  const double total = secondsBetween(slot->pending.arrival, Clock::now());
-  t->set_total(total);
-
-  ServerMetrics& m = *env_.metrics;
-  m.frame(pose.state == TrackingState::kOk         ? FrameOutcome::kOk
-          : pose.state == TrackingState::kDegraded ? FrameOutcome::kDegraded
-                                                   : FrameOutcome::kLost);
-  m.frameLatency(total);
-  m.stage(Stage::kQueue, slot->queue_s);
-  m.stage(Stage::kDecode, slot->decode_s);
-  m.stage(Stage::kNormals, pose.times.normals_s);
-  m.stage(Stage::kRotation, pose.times.rotation_s);
-  m.stage(Stage::kTranslation, pose.times.translation_s);
-  if (pose.state != TrackingState::kLost) m.psr(pose.psr);
-  if (pose.rotation_keyframe) m.rotationKeyframe();
-  if (pose.translation_keyframe) m.translationKeyframe();
-
-  std::unique_lock<std::mutex> lock(mutex_);
-  slot->stage = SlotStage::kFree;
-  translation_running_ = false;
-  ++next_translation_;
-  pushResponse(std::move(response));
-  taskDone(std::move(lock));
-}
-
 void Session::taskDone(std::unique_lock<std::mutex> lock) {
   --tasks_in_flight_;
-  schedule();
+  if (pipeline_) pipeline_->schedule();
   startReadIfWanted();
   maybeFinishOk();
   const bool destroy = done_ && tasks_in_flight_ == 0;
@@ -289,23 +152,14 @@ void Session::taskDone(std::unique_lock<std::mutex> lock) {
 }
 
 void Session::startReadIfWanted() {
-  if (reading_ || read_closed_ || finish_pending_ || finish_called_ || !configured_) return;
-  if (policy_ == v1::OVERLOAD_POLICY_BLOCK && queue_.size() >= queue_capacity_) return;
+  if (reading_ || read_closed_ || finish_pending_ || finish_called_ || !pipeline_) return;
+  if (!pipeline_->acceptsMore()) return;
   reading_ = true;
   StartRead(&read_msg_);
 }
 
-v1::TrackResponse Session::rejection(const v1::Frame& frame, v1::FrameStatus status,
-                                     const std::string& reason) const {
-  v1::TrackResponse r;
-  r.set_sequence(frame.sequence());
-  r.set_timestamp(frame.timestamp());
-  r.set_status(status);
-  r.set_reason(reason);
-  return r;
-}
-
-void Session::pushResponse(v1::TrackResponse response) {
+void Session::answer(v1::TrackResponse response) {
+  env_.metrics->frame(outcomeOf(response.status()));
   if (finish_pending_ || finish_called_) return;
   ++answered_;
   out_.push_back(std::move(response));
@@ -338,8 +192,7 @@ void Session::OnWriteDone(bool ok) {
 void Session::finish(grpc::Status status) {
   if (finish_pending_ || finish_called_) return;
   finish_pending_ = status;
-  env_.metrics->queuedFrames(-double(queue_.size()));
-  queue_.clear();
+  if (pipeline_) pipeline_->stop();
   if (writing_) {
     out_.erase(out_.begin() + 1, out_.end());  // the first is being written
     return;                                    // OnWriteDone finishes
@@ -362,10 +215,7 @@ void Session::callFinish() {
 }
 
 bool Session::idle() const {
-  if (!queue_.empty() || !out_.empty() || writing_ || tasks_in_flight_ > 0) return false;
-  for (const auto& s : slots_)
-    if (s->stage != SlotStage::kFree) return false;
-  return true;
+  return out_.empty() && !writing_ && tasks_in_flight_ == 0 && (!pipeline_ || pipeline_->idle());
 }
 
 void Session::maybeFinishOk() {
