@@ -7,6 +7,7 @@
 #include <random>
 
 #include "nidevo/odometry/depth_shift.hpp"
+#include "nidevo/odometry/odometry_config.hpp"
 #include "nidevo/odometry/ortho_projection.hpp"
 
 namespace nidevo {
@@ -30,9 +31,16 @@ OrthoImage field(double su, double sv, double dz) {
   return img;
 }
 
+// The depth-shift parameters of the default config, over every cell.
+OdometryConfig oneCellStep() {
+  OdometryConfig c;
+  c.depth_sample_step = 1;
+  return c;
+}
+
 TEST(DepthShift, RecoversAKnownDzWithinAMillimetre) {
   DepthShiftEstimator estimator;
-  DepthShiftParams params;
+  DepthShiftParams params = depthShiftParams(oneCellStep());
   params.resolution = 0.01;
   const OrthoImage key = field(0, 0, 0);
   for (auto [su, sv, dz] :
@@ -47,7 +55,7 @@ TEST(DepthShift, RecoversAKnownDzWithinAMillimetre) {
 
 TEST(DepthShift, IgnoresOutliersAndReportsNoMatchOnEmptyImages) {
   DepthShiftEstimator estimator;
-  DepthShiftParams params;
+  DepthShiftParams params = depthShiftParams(oneCellStep());
   params.resolution = 0.01;
   const OrthoImage key = field(0, 0, 0);
   OrthoImage cur = field(0, 0, -0.02);

@@ -54,6 +54,10 @@ Isometry3d rotationOnly(const Matrix3d& R) {
 }  // namespace
 
 struct Odometry::RotationState {
+  explicit RotationState(const OdometryConfig& c, int normal_map_pixels)
+      : tracking(planeTrackingParams(c, normal_map_pixels)), normal_map_pixels(normal_map_pixels) {}
+  const PlaneTrackingParams tracking;
+  const int normal_map_pixels;
   bool has_keyframe = false;
   NormalMap key_normals;
   Matrix3d R_world_key = Matrix3d::Identity();
@@ -64,9 +68,10 @@ struct Odometry::RotationState {
 };
 
 struct Odometry::TranslationState {
-  TranslationState(const OdometryConfig& c)
+  explicit TranslationState(const OdometryConfig& c)
       : kcc(c.projection_width, c.projection_height, c.kcc_use_depth ? 2 : 1, c.kcc_sigma,
-            c.kcc_lambda, c.kcc_label_sigma, c.fft_measure) {}
+            c.kcc_lambda, c.kcc_label_sigma, c.fft_measure),
+        depth_params(depthShiftParams(c)) {}
   bool has_keyframe = false;
   OrthoImage key, cur;
   std::vector<float> key_depth_channel, cur_depth_channel;
@@ -78,6 +83,7 @@ struct Odometry::TranslationState {
   KernelCrossCorrelator kcc;
   OrthoProjector projector;
   DepthShiftEstimator depth_shift;
+  DepthShiftParams depth_params;  // its resolution follows the keyframe's
 };
 
 Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
@@ -110,7 +116,8 @@ Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
     ray_x_[size_t(u)] = float((float(u * stride) - camera_.cx) / camera_.fx);
   for (int v = 0; v < H; ++v)
     ray_y_[size_t(v)] = float((float(v * stride) - camera_.cy) / camera_.fy);
-  rot_ = std::make_unique<RotationState>();
+  rot_ = std::make_unique<RotationState>(
+      config_, (camera_.width / config_.normal_stride) * (camera_.height / config_.normal_stride));
   trans_ = std::make_unique<TranslationState>(config_);
 }
 
@@ -172,15 +179,8 @@ void Odometry::estimateRotation(FrameState* s) {
     s->rotation_source = RotationSource::kInitial;
     s->rotation_keyframe = true;
   } else {
-    const int px = s->normals.width * s->normals.height;
-    PlaneTrackingParams params;
-    params.border = config_.border_px / config_.normal_stride;
-    params.overlap_dot = config_.overlap_dot;
-    params.mode_dot = config_.mode_dot;
-    params.min_plane_pixels = std::max(1, int(config_.min_plane_fraction * float(px)));
-    params.max_modes = config_.max_modes;
-    params.estimator = config_.plane_normal;
-    r.tracker.track(r.key_normals, s->normals, params, &r.tracked);
+    const int px = r.normal_map_pixels;
+    r.tracker.track(r.key_normals, s->normals, r.tracking, &r.tracked);
     s->overlap_pixels = r.tracked.overlap_pixels;
 
     const Matrix3d R_key_pred = r.R_world_key.transpose() * R_pred;
@@ -259,6 +259,7 @@ void Odometry::makeTranslationKeyframe(const FrameState& s, const Isometry3d& T_
                                 config_.projection_height, config_.projection_inlier_fraction);
   if (r <= 0) return;
   t.resolution = r;
+  t.depth_params.resolution = r;
   projectForCorrelation(cloud, Eigen::Matrix3f::Identity(), &t.key);
   const float* channels[2] = {t.key.gray.data(), nullptr};
   if (config_.kcc_use_depth) {
@@ -289,7 +290,6 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
   Isometry3d T = Isometry3d::Identity();
   T.linear() = s->R_world_cam;
   const char* translation_problem = nullptr;
-
   if (!s->depth_ok) {
     T.translation() = T_pred.translation();
     translation_problem = "too little valid depth; pose predicted";
@@ -298,68 +298,78 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
     makeTranslationKeyframe(*s, T);
     out.translation_keyframe = t.has_keyframe;
   } else {
-    const Matrix3d R_key_cur = t.T_world_key.linear().transpose() * s->R_world_cam;
-    projectForCorrelation(projectionCloud(*s), R_key_cur.cast<float>(), &t.cur);
-    const float* channels[2] = {t.cur.gray.data(), nullptr};
-    if (config_.kcc_use_depth) {
-      channels[1] = depthChannel(t.cur, t.key_mean_depth, &t.cur_depth_channel);
-    }
-    const KccMatch m = t.kcc.match(channels, config_.subpixel_peak, config_.psr_exclusion);
-    out.psr = m.psr;
-    DepthShift dz;
-    if (m.psr >= config_.psr_min) {
-      DepthShiftParams dp;
-      dp.gray_tolerance = config_.depth_gray_tolerance;
-      dp.inlier_m = config_.depth_inlier_m;
-      dp.iterations = config_.depth_iterations;
-      dp.max_slope = config_.depth_max_slope;
-      dp.sample_step = config_.depth_sample_step;
-      dp.resolution = t.resolution;
-      dz = t.depth_shift.estimate(t.key, t.cur, m.du, m.dv, dp);
-    }
-    if (m.psr < config_.psr_min) {
-      translation_problem = "low PSR; translation predicted";
-    } else if (dz.inliers == 0) {
-      translation_problem = "no depth match; translation predicted";
-    }
-    if (translation_problem) {
-      T.translation() = T_pred.translation();
-    } else {
-      Isometry3d T_key_cur = Isometry3d::Identity();
-      T_key_cur.linear() = R_key_cur;
-      T_key_cur.translation() = Eigen::Vector3d(-m.du * t.resolution, -m.dv * t.resolution, dz.dz);
-      T = t.T_world_key * T_key_cur;
-      T.linear() = s->R_world_cam;  // keep stage 2's rotation exactly
-    }
-    if (m.psr <= config_.psr_bound) {
-      makeTranslationKeyframe(*s, T);
-      out.translation_keyframe = true;
-    }
+    translation_problem = matchTranslationKeyframe(*s, T_pred, &T, &out);
   }
   out.projection_resolution = t.resolution;
-
-  const char* rotation_problem = nullptr;
-  if (s->depth_ok && s->rotation_source == RotationSource::kOnePlane) {
-    rotation_problem = "one plane; rotation partly predicted";
-  } else if (s->depth_ok && s->rotation_source == RotationSource::kPrediction) {
-    rotation_problem = "fewer than two non-parallel planes; rotation predicted";
-  }
-  if (!s->depth_ok) {
-    out.state = TrackingState::kLost;
-    out.reason = translation_problem;
-    ++t.degraded_frames;
-  } else if (translation_problem || rotation_problem) {
-    out.state = ++t.degraded_frames > config_.max_degraded_frames ? TrackingState::kLost
-                                                                  : TrackingState::kDegraded;
-    out.reason = rotation_problem ? rotation_problem : translation_problem;
-  } else {
-    t.degraded_frames = 0;
-  }
+  decideTrackingState(*s, translation_problem, &out);
   out.T_world_cam = T;
   t.motion.update(T, out.state == TrackingState::kOk);
   s->times.translation_s = secondsSince(t0);
   out.times = s->times;
   return out;
+}
+
+// Paper Eqs. 9-18: the current cloud, rotated into the keyframe's orientation, projected and
+// correlated with the keyframe (KCC shift in the image plane), then the depth shift along the
+// axis. Renews the keyframe when the match is weak (PSR at or below psr_bound).
+const char* Odometry::matchTranslationKeyframe(const FrameState& s, const Isometry3d& T_pred,
+                                               Isometry3d* T, PoseEstimate* out) {
+  TranslationState& t = *trans_;
+  const Matrix3d R_key_cur = t.T_world_key.linear().transpose() * s.R_world_cam;
+  projectForCorrelation(projectionCloud(s), R_key_cur.cast<float>(), &t.cur);
+  const float* channels[2] = {t.cur.gray.data(), nullptr};
+  if (config_.kcc_use_depth) {
+    channels[1] = depthChannel(t.cur, t.key_mean_depth, &t.cur_depth_channel);
+  }
+  const KccMatch m = t.kcc.match(channels, config_.subpixel_peak, config_.psr_exclusion);
+  out->psr = m.psr;
+  DepthShift dz;
+  if (m.psr >= config_.psr_min)
+    dz = t.depth_shift.estimate(t.key, t.cur, m.du, m.dv, t.depth_params);
+  const char* problem = nullptr;
+  if (m.psr < config_.psr_min) {
+    problem = "low PSR; translation predicted";
+  } else if (dz.inliers == 0) {
+    problem = "no depth match; translation predicted";
+  }
+  if (problem) {
+    T->translation() = T_pred.translation();
+  } else {
+    Isometry3d T_key_cur = Isometry3d::Identity();
+    T_key_cur.linear() = R_key_cur;
+    T_key_cur.translation() = Eigen::Vector3d(-m.du * t.resolution, -m.dv * t.resolution, dz.dz);
+    *T = t.T_world_key * T_key_cur;
+    T->linear() = s.R_world_cam;  // keep stage 2's rotation exactly
+  }
+  if (m.psr <= config_.psr_bound) {
+    makeTranslationKeyframe(s, *T);
+    out->translation_keyframe = true;
+  }
+  return problem;
+}
+
+// OK when both stages used the method; DEGRADED when either fell back to the prediction; LOST
+// without depth, or after max_degraded_frames DEGRADED frames in a row.
+void Odometry::decideTrackingState(const FrameState& s, const char* translation_problem,
+                                   PoseEstimate* out) {
+  TranslationState& t = *trans_;
+  const char* rotation_problem = nullptr;
+  if (s.depth_ok && s.rotation_source == RotationSource::kOnePlane) {
+    rotation_problem = "one plane; rotation partly predicted";
+  } else if (s.depth_ok && s.rotation_source == RotationSource::kPrediction) {
+    rotation_problem = "fewer than two non-parallel planes; rotation predicted";
+  }
+  if (!s.depth_ok) {
+    out->state = TrackingState::kLost;
+    out->reason = translation_problem;
+    ++t.degraded_frames;
+  } else if (translation_problem || rotation_problem) {
+    out->state = ++t.degraded_frames > config_.max_degraded_frames ? TrackingState::kLost
+                                                                   : TrackingState::kDegraded;
+    out->reason = rotation_problem ? rotation_problem : translation_problem;
+  } else {
+    t.degraded_frames = 0;
+  }
 }
 
 PoseEstimate Odometry::track(const RgbdFrame& frame) {

@@ -1,5 +1,6 @@
 #include "nidevo/odometry/odometry_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -30,6 +31,7 @@ std::string OdometryConfig::validate() const {
   if (!in(parallel_dot, 0, 1)) return "parallel_dot must be in [0, 1]";
   if (!in(plane_unchanged_tolerance, 0, 0.5))
     return "plane_unchanged_tolerance must be in [0, 0.5]";
+  if (!in(plane_fit_cone_dot, 0, 1)) return "plane_fit_cone_dot must be in [0, 1]";
   if (!in(plane_max_residual, 1e-5, 1)) return "plane_max_residual must be in [1e-5, 1]";
   if (max_modes < 2 || max_modes > 64) return "max_modes must be in 2..64";
   if (rotation_keyframe_interval < 1) return "rotation_keyframe_interval must be at least 1";
@@ -64,6 +66,29 @@ std::string OdometryConfig::validate() const {
   if (!in(min_valid_depth_fraction, 0, 1)) return "min_valid_depth_fraction must be in [0, 1]";
   if (max_degraded_frames < 1) return "max_degraded_frames must be at least 1";
   return {};
+}
+
+PlaneTrackingParams planeTrackingParams(const OdometryConfig& c, int normal_map_pixels) {
+  PlaneTrackingParams p;
+  p.border = c.border_px / c.normal_stride;
+  p.overlap_dot = c.overlap_dot;
+  p.mode_dot = c.mode_dot;
+  p.min_plane_pixels = std::max(1, int(c.min_plane_fraction * float(normal_map_pixels)));
+  p.max_modes = c.max_modes;
+  p.estimator = c.plane_normal;
+  p.fit_cone_dot = c.plane_fit_cone_dot;
+  return p;
+}
+
+DepthShiftParams depthShiftParams(const OdometryConfig& c) {
+  DepthShiftParams p;
+  p.gray_tolerance = c.depth_gray_tolerance;
+  p.inlier_m = c.depth_inlier_m;
+  p.iterations = c.depth_iterations;
+  p.sample_step = c.depth_sample_step;
+  p.max_slope = c.depth_max_slope;
+  p.resolution = 0;
+  return p;
 }
 
 }  // namespace nidevo

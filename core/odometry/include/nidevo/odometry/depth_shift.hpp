@@ -7,16 +7,17 @@
 
 namespace nidevo {
 
+// Built from OdometryConfig by depthShiftParams() (odometry_config.hpp): no defaults here.
 struct DepthShiftParams {
-  float gray_tolerance = 0.1f;  // |grey_key - grey_cur| must be below
-  float inlier_m = 0.1f;        // |difference - dz| must be below
-  int iterations = 3;
-  int sample_step = 1;  // use every n-th cell in u and v
+  float gray_tolerance;  // |grey_key - grey_cur| must be below
+  float inlier_m;        // |difference - dz| must be below
+  int iterations;
+  int sample_step;  // use every n-th cell in u and v
   // Cells whose key surface is steeper than this (depth change per metre across the projection)
   // are skipped: for a surface seen edge-on the nearest point of a cell is where the field of
   // view cuts it, which moves with the camera and not with the scene. 0 disables the test.
-  float max_slope = 1.5f;
-  double resolution = 0;  // m per cell, needed for the slope test
+  float max_slope;
+  double resolution;  // m per cell of the translation keyframe, needed for the slope test
 };
 
 struct DepthShift {

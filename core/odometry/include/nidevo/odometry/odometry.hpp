@@ -95,6 +95,11 @@ class Odometry {
   struct RotationState;
   struct TranslationState;
   void makeTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_world_cam);
+  // Returns why the translation was predicted instead, or nullptr; sets *T_world_cam.
+  const char* matchTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_pred,
+                                       Eigen::Isometry3d* T_world_cam, PoseEstimate* out);
+  void decideTrackingState(const FrameState& state, const char* translation_problem,
+                           PoseEstimate* out);
   CloudView projectionCloud(const FrameState& state) const;
   void projectForCorrelation(const CloudView& cloud, const Eigen::Matrix3f& R,
                              OrthoImage* image) const;

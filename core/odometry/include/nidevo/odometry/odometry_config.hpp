@@ -3,6 +3,7 @@
 // except where the README's ablation table measured a gain (marked "paper:" below).
 #include <string>
 
+#include "nidevo/odometry/depth_shift.hpp"
 #include "nidevo/odometry/plane_tracking.hpp"
 
 namespace nidevo {
@@ -32,6 +33,7 @@ struct OdometryConfig {
   int max_modes = 16;
   RotationMethod rotation_method = RotationMethod::kClosedForm;         // paper: kBestPair
   PlaneNormalEstimator plane_normal = PlaneNormalEstimator::kPlaneFit;  // paper: kMedian
+  float plane_fit_cone_dot = 0.99f;          // fit: pixels within this of the mode's median normal
   float plane_max_residual = 0.01f;          // rad; closed_form drops planes that disagree more
   float plane_unchanged_tolerance = 0.002f;  // |n_key - n_cur| below this: the plane did not turn
   int rotation_keyframe_interval = 5;
@@ -70,7 +72,13 @@ struct OdometryConfig {
   int max_degraded_frames = 30;  // consecutive DEGRADED frames before LOST
 
   // Empty when valid, else a message naming the bad field.
-  std::string validate() const;
+  [[nodiscard]] std::string validate() const;
 };
+
+// The stage modules' parameters, derived from the one config; Odometry builds them once.
+// Plane tracking works on the normal map, of `normal_map_pixels` pixels.
+PlaneTrackingParams planeTrackingParams(const OdometryConfig& config, int normal_map_pixels);
+// The resolution is the translation keyframe's, set with each new keyframe (0 until then).
+DepthShiftParams depthShiftParams(const OdometryConfig& config);
 
 }  // namespace nidevo

@@ -23,14 +23,15 @@ enum class PlaneNormalEstimator {
 PlaneNormalEstimator parsePlaneNormalEstimator(const std::string& name);  // median, fit
 const char* toString(PlaneNormalEstimator e);
 
+// Built from OdometryConfig by planeTrackingParams() (odometry_config.hpp): no defaults here.
 struct PlaneTrackingParams {
-  int border = 5;  // in normal-map pixels
-  float overlap_dot = 0.9f;
-  float mode_dot = 0.95f;
-  int min_plane_pixels = 1000;
-  int max_modes = 16;
-  PlaneNormalEstimator estimator = PlaneNormalEstimator::kMedian;
-  float fit_cone_dot = 0.99f;  // kPlaneFit: members within this of the mode's median normal
+  int border;  // in normal-map pixels
+  float overlap_dot;
+  float mode_dot;
+  int min_plane_pixels;
+  int max_modes;
+  PlaneNormalEstimator estimator;
+  float fit_cone_dot;  // kPlaneFit: members within this of the mode's median normal
 };
 
 struct PlaneTrackingResult {
