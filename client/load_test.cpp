@@ -86,8 +86,8 @@ void runSession(const LoadTestConfig& config, const std::vector<v1::Frame>& fram
   v1::Frame frame;
   for (uint64_t i = 0;; ++i) {
     if (config.rate_hz > 0)
-      std::this_thread::sleep_until(t0 +
-                                    std::chrono::microseconds(int64_t(1e6 * i / config.rate_hz)));
+      std::this_thread::sleep_until(
+          t0 + std::chrono::microseconds(int64_t(1e6 * double(i) / config.rate_hz)));
     const Clock::time_point now = Clock::now();
     if (now >= window.end) break;
     frame = frames[i % frames.size()];

@@ -70,7 +70,7 @@ int replayCommand() {
         const double secs = std::chrono::duration<double>(Clock::now() - start).count();
         const v1::TrackResponse* last = responses.empty() ? nullptr : &responses.back();
         std::fprintf(stderr, "\r%zu/%zu sent, %zu answered, %.1f frames/s, PSR %.1f, %-8s",
-                     sent.load(), total, responses.size(), responses.size() / secs,
+                     sent.load(), total, responses.size(), double(responses.size()) / secs,
                      last ? last->psr() : 0.0, last ? shortName(last->status()).c_str() : "");
       }
       std::fprintf(stderr, "\n");
@@ -83,7 +83,8 @@ int replayCommand() {
       std::this_thread::sleep_until(start + std::chrono::microseconds(int64_t(
                                                 1e6 * (sequence.frames[i].timestamp - t_first))));
     else if (rate > 0)
-      std::this_thread::sleep_until(start + std::chrono::microseconds(int64_t(1e6 * i / rate)));
+      std::this_thread::sleep_until(start +
+                                    std::chrono::microseconds(int64_t(1e6 * double(i) / rate)));
     encodeFrame(sequence.frames[i], sequence.camera.depth_scale, encoding, &frame);
     frame.set_sequence(i);
     if (!session->send(frame)) break;
@@ -112,7 +113,7 @@ int replayCommand() {
   std::printf("sequence: %s, %zu frames %dx%d, encoding %s\n", sequence.name.c_str(), total,
               sequence.camera.width, sequence.camera.height, encodingName().c_str());
   std::printf("replay: %zu frames sent, %zu answered in %.2f s = %.1f frames/s\n", sent.load(),
-              responses.size(), secs, responses.size() / secs);
+              responses.size(), secs, double(responses.size()) / secs);
   std::printf("answers: %d OK, %d DEGRADED, %d LOST, %d DROPPED, %d ERROR\n", counts[1], counts[2],
               counts[3], counts[4], counts[5]);
   if (!server_ms.empty())

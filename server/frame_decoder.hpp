@@ -13,17 +13,17 @@ class FrameDecoder {
  public:
   // Empty when the config is usable, else a message naming the bad field
   // (e.g. "config.camera.fx: must be non-zero").
-  static std::string validate(const v1::SessionConfig& config);
+  [[nodiscard]] static std::string validate(const v1::SessionConfig& config);
   // `config` must have passed validate().
   explicit FrameDecoder(const v1::SessionConfig& config);
 
   const Camera& camera() const { return camera_; }
   // Decodes into `out` (buffers reused). Empty when decoded, else what is wrong with the frame.
-  std::string decode(const v1::Frame& frame, RgbdFrame* out) const;
+  [[nodiscard]] std::string decode(const v1::Frame& frame, RgbdFrame* out) const;
 
  private:
-  std::string decodeColor(const std::string& bytes, GrayImage* gray) const;
-  std::string decodeDepth(const std::string& bytes, DepthImageF* depth) const;
+  [[nodiscard]] std::string decodeColor(const std::string& bytes, GrayImage* gray) const;
+  [[nodiscard]] std::string decodeDepth(const std::string& bytes, DepthImageF* depth) const;
 
   Camera camera_;
   v1::ColorEncoding color_encoding_;

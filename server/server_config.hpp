@@ -27,7 +27,7 @@ struct ServerConfig {
   OdometryConfig odometry;
 
   // Empty when valid, else a message naming the bad setting.
-  std::string validate() const;
+  [[nodiscard]] std::string validate() const;
 };
 
 }  // namespace nidevo::server

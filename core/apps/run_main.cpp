@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
       if (p.psr > 0) psr.push_back(p.psr);
     }
     std::printf("odometry: %zu frames in %.3f s = %.1f frames/s (%d thread%s)\n", poses.size(),
-                secs, poses.size() / secs, threads, threads > 1 ? "s" : "");
+                secs, double(poses.size()) / secs, threads, threads > 1 ? "s" : "");
     std::printf("stage medians: normals %.2f ms, rotation %.2f ms, translation %.2f ms\n",
                 1e3 * median(t_normals), 1e3 * median(t_rotation), 1e3 * median(t_translation));
     std::printf(

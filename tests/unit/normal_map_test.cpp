@@ -127,7 +127,7 @@ TEST_P(NormalMapPlanes, SmoothedNormalsOfARenderedPlaneAreWithinHalfADegree) {
     worst = std::max(worst, angleDeg(map.normal[i], n));
     ++checked;
   }
-  EXPECT_GT(checked, int(map.normal.size() * 0.8));
+  EXPECT_GT(checked, int(double(map.normal.size()) * 0.8));
   EXPECT_LT(worst, 0.5);
   // Pixels inside the hole have no normal.
   EXPECT_FALSE(map.valid[size_t(120 / stride) * map.width + size_t(230 / stride)]);

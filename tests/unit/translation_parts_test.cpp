@@ -79,7 +79,7 @@ struct TestCloud {
 TEST(OrthoProjection, ResolutionKeepsTheRequestedFractionInside) {
   TestCloud cloud;
   for (int i = -50; i <= 50; ++i)
-    for (int j = -50; j <= 50; ++j) cloud.add(i * 0.02f, j * 0.01f, 2.f, 0.3f);
+    for (int j = -50; j <= 50; ++j) cloud.add(float(i) * 0.02f, float(j) * 0.01f, 2.f, 0.3f);
   OrthoProjector projector;
   const double r = projector.resolutionFor(cloud.view(), Eigen::Matrix3f::Identity(), 80, 60, 0.8);
   OrthoImage img;

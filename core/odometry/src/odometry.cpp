@@ -54,8 +54,8 @@ Isometry3d rotationOnly(const Matrix3d& R) {
 }  // namespace
 
 struct Odometry::RotationState {
-  explicit RotationState(const OdometryConfig& c, int normal_map_pixels)
-      : tracking(planeTrackingParams(c, normal_map_pixels)), normal_map_pixels(normal_map_pixels) {}
+  explicit RotationState(const OdometryConfig& c, int map_pixels)
+      : tracking(planeTrackingParams(c, map_pixels)), normal_map_pixels(map_pixels) {}
   const PlaneTrackingParams tracking;
   const int normal_map_pixels;
   bool has_keyframe = false;
@@ -157,8 +157,8 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
       s->intensity[i] = float(gray_row[u * stride]) * (1.f / 255.f);
     }
   }
-  s->depth_ok =
-      valid >= config_.min_valid_depth_fraction * float(W * H) && s->normals.validCount() > 0;
+  s->depth_ok = float(valid) >= config_.min_valid_depth_fraction * float(W * H) &&
+                s->normals.validCount() > 0;
   s->times = StageTimes{};
   s->times.normals_s = secondsSince(t0);
 }
@@ -204,9 +204,10 @@ void Odometry::estimateRotation(FrameState* s) {
     }
     s->R_world_cam = r.R_world_key * R_key_cur;
     const double angle = Eigen::AngleAxisd(R_key_cur).angle();
-    s->rotation_keyframe = ++r.frames_since_key >= config_.rotation_keyframe_interval ||
-                           s->overlap_pixels < config_.rotation_keyframe_min_overlap * float(px) ||
-                           angle >= config_.rotation_keyframe_max_angle;
+    s->rotation_keyframe =
+        ++r.frames_since_key >= config_.rotation_keyframe_interval ||
+        float(s->overlap_pixels) < config_.rotation_keyframe_min_overlap * float(px) ||
+        angle >= config_.rotation_keyframe_max_angle;
   }
   // Re-orthonormalise so that rounding never accumulates into a non-rotation.
   s->R_world_cam = Eigen::Quaterniond(s->R_world_cam).normalized().toRotationMatrix();

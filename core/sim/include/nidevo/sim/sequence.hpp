@@ -35,7 +35,7 @@ struct SequenceConfig {
   double lateral_sigma_px = 0.5;
   double rgb_sigma = 3.0;  // 8-bit units
 
-  std::string validate() const;  // empty when valid, else names the bad field
+  [[nodiscard]] std::string validate() const;  // empty when valid, else names the bad field
 };
 
 // A rendered frame in full: colour for writing files, grey and depth for the odometry.
