@@ -130,6 +130,23 @@ void KernelCrossCorrelator::train(const float* const* channels) {
 
 KccMatch KernelCrossCorrelator::match(const float* const* channels, bool subpixel,
                                       int psr_exclusion) {
+  correlate(channels);
+  const int W = width_, H = height_;
+  size_t best = 0;
+  for (size_t i = 1; i < n_real_; ++i)
+    if (response_[i] > response_[best]) best = i;
+  const int pu = int(best % size_t(W)), pv = int(best / size_t(W));
+  KccMatch m;
+  m.peak = responseAt(pu, pv);
+  m.du = pu > W / 2 ? pu - W : pu;
+  m.dv = pv > H / 2 ? pv - H : pv;
+  if (subpixel) addSubpixelOffset(pu, pv, &m.du, &m.dv);
+  m.psr = peakToSidelobe(pu, pv, m.peak, psr_exclusion);
+  return m;
+}
+
+// Eqs. 14-15: the response of the trained filter to the current image, in response_.
+void KernelCrossCorrelator::correlate(const float* const* channels) {
   double cur_energy = 0;
   for (int c = 0; c < channels_; ++c) {
     cur_energy += energy(channels[c], n_real_);
@@ -140,45 +157,40 @@ KccMatch KernelCrossCorrelator::match(const float* const* channels, bool subpixe
   for (size_t i = 0; i < n_complex_; ++i) spectrum_[i] *= alpha_hat_[i];  // Eq. 15
   fftwf_execute_dft_c2r(static_cast<fftwf_plan>(plan_inverse_),
                         reinterpret_cast<fftwf_complex*>(spectrum_), response_);
+}
 
+double KernelCrossCorrelator::responseAt(int u, int v) const {
   const int W = width_, H = height_;
-  size_t best = 0;
-  for (size_t i = 1; i < n_real_; ++i)
-    if (response_[i] > response_[best]) best = i;
-  const int pu = int(best % size_t(W)), pv = int(best / size_t(W));
-  auto at = [&](int u, int v) {
-    return double(response_[size_t((v + H) % H) * size_t(W) + size_t((u + W) % W)]);
-  };
-  KccMatch m;
-  m.peak = at(pu, pv);
-  double du = pu > W / 2 ? pu - W : pu;
-  double dv = pv > H / 2 ? pv - H : pv;
-  if (subpixel) {
-    // Quadratic surface through the 3x3 neighbourhood of the peak, with the cross term, so that a
-    // diagonal ridge does not bias the axes; on logarithms where all are positive (exact for a
-    // Gaussian peak).
-    double f[3][3];
-    bool positive = true;
-    for (int y = -1; y <= 1; ++y)
-      for (int x = -1; x <= 1; ++x) {
-        f[y + 1][x + 1] = at(pu + x, pv + y);
-        positive = positive && f[y + 1][x + 1] > 0;
-      }
-    if (positive)
-      for (auto& row : f)
-        for (double& value : row) value = std::log(value);
-    const double gx = (f[1][2] - f[1][0]) / 2, gy = (f[2][1] - f[0][1]) / 2;
-    const double hxx = f[1][2] - 2 * f[1][1] + f[1][0], hyy = f[2][1] - 2 * f[1][1] + f[0][1];
-    const double hxy = (f[2][2] - f[2][0] - f[0][2] + f[0][0]) / 4;
-    const double det = hxx * hyy - hxy * hxy;
-    if (hxx < 0 && det > 0) {  // a maximum
-      du += std::clamp(-(hyy * gx - hxy * gy) / det, -0.5, 0.5);
-      dv += std::clamp(-(hxx * gy - hxy * gx) / det, -0.5, 0.5);
-    }
-  }
-  m.du = du;
-  m.dv = dv;
+  return double(response_[size_t((v + H) % H) * size_t(W) + size_t((u + W) % W)]);
+}
 
+// Quadratic surface through the 3x3 neighbourhood of the peak, with the cross term, so that a
+// diagonal ridge does not bias the axes; on logarithms where all are positive (exact for a
+// Gaussian peak).
+void KernelCrossCorrelator::addSubpixelOffset(int pu, int pv, double* du, double* dv) const {
+  double f[3][3];
+  bool positive = true;
+  for (int y = -1; y <= 1; ++y)
+    for (int x = -1; x <= 1; ++x) {
+      f[y + 1][x + 1] = responseAt(pu + x, pv + y);
+      positive = positive && f[y + 1][x + 1] > 0;
+    }
+  if (positive)
+    for (auto& row : f)
+      for (double& value : row) value = std::log(value);
+  const double gx = (f[1][2] - f[1][0]) / 2, gy = (f[2][1] - f[0][1]) / 2;
+  const double hxx = f[1][2] - 2 * f[1][1] + f[1][0], hyy = f[2][1] - 2 * f[1][1] + f[0][1];
+  const double hxy = (f[2][2] - f[2][0] - f[0][2] + f[0][0]) / 4;
+  const double det = hxx * hyy - hxy * hxy;
+  if (hxx < 0 && det > 0) {  // a maximum
+    *du += std::clamp(-(hyy * gx - hxy * gy) / det, -0.5, 0.5);
+    *dv += std::clamp(-(hxx * gy - hxy * gx) / det, -0.5, 0.5);
+  }
+}
+
+// Eq. 17: (peak - mean) / std of the response outside the (2e+1)^2 window around the peak.
+double KernelCrossCorrelator::peakToSidelobe(int pu, int pv, double peak, int exclusion) const {
+  const int W = width_, H = height_;
   double sum = 0, sum2 = 0;
   size_t count = 0;
   for (int v = 0; v < H; ++v) {
@@ -187,7 +199,7 @@ KccMatch KernelCrossCorrelator::match(const float* const* channels, bool subpixe
     for (int u = 0; u < W; ++u) {
       int dx = std::abs(u - pu);
       dx = std::min(dx, W - dx);
-      if (dx <= psr_exclusion && dy <= psr_exclusion) continue;
+      if (dx <= exclusion && dy <= exclusion) continue;
       const double r = response_[size_t(v) * size_t(W) + size_t(u)];
       sum += r;
       sum2 += r * r;
@@ -196,8 +208,7 @@ KccMatch KernelCrossCorrelator::match(const float* const* channels, bool subpixe
   }
   const double mean = sum / double(count);
   const double var = std::max(0.0, sum2 / double(count) - mean * mean);
-  m.psr = var > 0 ? (m.peak - mean) / std::sqrt(var) : 0.0;
-  return m;
+  return var > 0 ? (peak - mean) / std::sqrt(var) : 0.0;
 }
 
 }  // namespace nidevo

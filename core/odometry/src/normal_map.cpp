@@ -132,24 +132,34 @@ int NormalMap::validCount() const {
 void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, int stride,
                                int cell_size, float depth_discontinuity, float min_depth,
                                float max_depth, float crease_dot, NormalMap* out) {
-  const Camera cam = camera.subsampled(stride);
   const int W = depth.width / stride, H = depth.height / stride;
   const size_t n = size_t(W) * size_t(H);
   out->resize(W, H);
   for (auto* plane : {&z_, &nx_, &ny_, &nz_, &hx_, &hy_, &hz_}) plane->resize(n);
   has_normal_.resize(n);
-  auto at = [W](std::vector<float>& plane, int v) { return plane.data() + size_t(v) * W; };
+  backProject(depth, camera.subsampled(stride), stride, min_depth, max_depth, out);
+  rawNormals(W, H, depth_discontinuity);
+  boxFilter(W, H, cell_size, out);
+  markSmooth(W, H, crease_dot, out);
+}
 
-  // Back-projection as Camera::backproject computes it, with the divisions done once per
-  // column and row instead of per pixel.
+float* NormalMapBuilder::rowOf(std::vector<float>& plane, int width, int v) {
+  return plane.data() + size_t(v) * size_t(width);
+}
+
+// Back-projection as Camera::backproject computes it, with the divisions done once per column
+// and row instead of per pixel.
+void NormalMapBuilder::backProject(const DepthImageF& depth, const Camera& cam, int stride,
+                                   float min_depth, float max_depth, NormalMap* out) {
+  const int W = out->width, H = out->height;
   ray_x_.resize(size_t(W));
   ray_y_.resize(size_t(H));
   for (int u = 0; u < W; ++u) ray_x_[size_t(u)] = float((float(u) - cam.cx) / cam.fx);
   for (int v = 0; v < H; ++v) ray_y_[size_t(v)] = float((float(v) - cam.cy) / cam.fy);
   for (int v = 0; v < H; ++v) {
     const float* row = &depth.data[size_t(v * stride) * size_t(depth.width)];
-    float* z_row = at(z_, v);
-    Eigen::Vector3f* dst = &out->points[size_t(v) * W];
+    float* z_row = rowOf(z_, W, v);
+    Eigen::Vector3f* dst = &out->points[size_t(v) * size_t(W)];
     const float ry = ray_y_[size_t(v)];
     for (int u = 0; u < W; ++u) {
       float z = row[u * stride];
@@ -158,57 +168,64 @@ void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, i
       dst[u] = Eigen::Vector3f(ray_x_[size_t(u)] * z, ry * z, z);
     }
   }
+}
 
-  // The first and last rows lack a neighbour: no normal there.
+// Paper Eq. 4 at every pixel with both vertical neighbours; the first and last rows get none.
+void NormalMapBuilder::rawNormals(int W, int H, float depth_discontinuity) {
   for (int v : {0, H - 1}) {
-    std::fill_n(at(nx_, v), W, 0.f);
-    std::fill_n(at(ny_, v), W, 0.f);
-    std::fill_n(at(nz_, v), W, 0.f);
-    std::fill_n(&has_normal_[size_t(v) * W], W, uint8_t(0));
+    std::fill_n(rowOf(nx_, W, v), W, 0.f);
+    std::fill_n(rowOf(ny_, W, v), W, 0.f);
+    std::fill_n(rowOf(nz_, W, v), W, 0.f);
+    std::fill_n(&has_normal_[size_t(v) * size_t(W)], W, uint8_t(0));
   }
   for (int v = 1; v < H - 1; ++v) {
-    centralDifferencesRow(at(z_, v - 1), at(z_, v), at(z_, v + 1), ray_x_.data(),
+    centralDifferencesRow(rowOf(z_, W, v - 1), rowOf(z_, W, v), rowOf(z_, W, v + 1), ray_x_.data(),
                           ray_y_[size_t(v - 1)], ray_y_[size_t(v)], ray_y_[size_t(v + 1)], W,
-                          depth_discontinuity, at(nx_, v), at(ny_, v), at(nz_, v),
-                          &has_normal_[size_t(v) * W]);
+                          depth_discontinuity, rowOf(nx_, W, v), rowOf(ny_, W, v), rowOf(nz_, W, v),
+                          &has_normal_[size_t(v) * size_t(W)]);
   }
+}
 
-  // Separable box filter of side cell_size, O(1) per pixel: horizontal sums, then vertical
-  // running sums walked row by row so that memory is read in order. Only the direction of a
-  // sum matters, so no count is kept. The smoothed unit normals replace the raw ones in nx_..
+// Separable box filter of side cell_size, O(1) per pixel: horizontal sums, then vertical running
+// sums walked row by row so that memory is read in order. Only the direction of a sum matters,
+// so no count is kept. The smoothed unit normals replace the raw ones in nx_..
+void NormalMapBuilder::boxFilter(int W, int H, int cell_size, NormalMap* out) {
   const int lo = cell_size / 2, hi = cell_size - 1 - lo;
   for (int v = 0; v < H; ++v) {
-    boxSumRow(at(nx_, v), at(ny_, v), at(nz_, v), W, lo, hi, at(hx_, v), at(hy_, v), at(hz_, v));
+    boxSumRow(rowOf(nx_, W, v), rowOf(ny_, W, v), rowOf(nz_, W, v), W, lo, hi, rowOf(hx_, W, v),
+              rowOf(hy_, W, v), rowOf(hz_, W, v));
   }
   sum_x_.assign(size_t(W), 0.f);
   sum_y_.assign(size_t(W), 0.f);
   sum_z_.assign(size_t(W), 0.f);
   auto add_row = [&](int v, bool add) {
-    accumulateRow(at(hx_, v), at(hy_, v), at(hz_, v), W, add, sum_x_.data(), sum_y_.data(),
-                  sum_z_.data());
+    accumulateRow(rowOf(hx_, W, v), rowOf(hy_, W, v), rowOf(hz_, W, v), W, add, sum_x_.data(),
+                  sum_y_.data(), sum_z_.data());
   };
   for (int v = 0; v <= std::min(hi, H - 1); ++v) add_row(v, true);
   for (int v = 0; v < H; ++v) {
-    const size_t row = size_t(v) * W;
-    normaliseRow(sum_x_.data(), sum_y_.data(), sum_z_.data(), &has_normal_[row], W, at(nx_, v),
-                 at(ny_, v), at(nz_, v), &out->valid[row]);
-    const float *x = at(nx_, v), *y = at(ny_, v), *z = at(nz_, v);
+    const size_t row = size_t(v) * size_t(W);
+    normaliseRow(sum_x_.data(), sum_y_.data(), sum_z_.data(), &has_normal_[row], W,
+                 rowOf(nx_, W, v), rowOf(ny_, W, v), rowOf(nz_, W, v), &out->valid[row]);
+    const float *x = rowOf(nx_, W, v), *y = rowOf(ny_, W, v), *z = rowOf(nz_, W, v);
     Eigen::Vector3f* normal = &out->normal[row];
     for (int u = 0; u < W; ++u) normal[u] = Eigen::Vector3f(x[u], y[u], z[u]);
     if (v + hi + 1 < H) add_row(v + hi + 1, true);
     if (v - lo >= 0) add_row(v - lo, false);
   }
+}
 
-  // Pixels on a crease (a 4-neighbour normal differs) are useless for plane tracking; marking
-  // them once here spares stage 2 from doing it for both frames of every pair.
+// Pixels on a crease (a 4-neighbour normal differs) are useless for plane tracking; marking them
+// once here spares stage 2 from doing it for both frames of every pair.
+void NormalMapBuilder::markSmooth(int W, int H, float crease_dot, NormalMap* out) {
   std::fill(out->smooth.begin(), out->smooth.end(), uint8_t(0));
   for (int v = 1; v < H - 1; ++v) {
-    const float* top[3] = {at(nx_, v - 1), at(ny_, v - 1), at(nz_, v - 1)};
-    const float* mid[3] = {at(nx_, v), at(ny_, v), at(nz_, v)};
-    const float* bot[3] = {at(nx_, v + 1), at(ny_, v + 1), at(nz_, v + 1)};
-    const uint8_t* valid = &out->valid[size_t(v) * W];
+    const float* top[3] = {rowOf(nx_, W, v - 1), rowOf(ny_, W, v - 1), rowOf(nz_, W, v - 1)};
+    const float* mid[3] = {rowOf(nx_, W, v), rowOf(ny_, W, v), rowOf(nz_, W, v)};
+    const float* bot[3] = {rowOf(nx_, W, v + 1), rowOf(ny_, W, v + 1), rowOf(nz_, W, v + 1)};
+    const uint8_t* valid = &out->valid[size_t(v) * size_t(W)];
     smoothRow(top, mid, bot, valid - W, valid, valid + W, W, crease_dot,
-              &out->smooth[size_t(v) * W]);
+              &out->smooth[size_t(v) * size_t(W)]);
   }
 }
 

@@ -179,52 +179,63 @@ void Odometry::estimateRotation(FrameState* s) {
     s->rotation_source = RotationSource::kInitial;
     s->rotation_keyframe = true;
   } else {
-    const int px = r.normal_map_pixels;
-    r.tracker.track(r.key_normals, s->normals, r.tracking, &r.tracked);
-    s->overlap_pixels = r.tracked.overlap_pixels;
-
-    const Matrix3d R_key_pred = r.R_world_key.transpose() * R_pred;
-    Matrix3d R_key_cur;
-    const auto solution =
-        solveRotation(r.tracked.planes, config_.rotation_method, config_.parallel_dot,
-                      config_.plane_unchanged_tolerance, config_.plane_max_residual);
-    if (solution) {
-      R_key_cur = solution->rotation;
-      s->planes_used = solution->planes_used;
-      s->rotation_source = RotationSource::kPlanes;
-    } else if (!r.tracked.planes.empty()) {
-      const PlanePair& p = r.tracked.planes.front();
-      R_key_cur =
-          minimalRotation(R_key_pred * p.cur.cast<double>(), p.key.cast<double>()) * R_key_pred;
-      s->planes_used = 1;
-      s->rotation_source = RotationSource::kOnePlane;
-    } else {
-      R_key_cur = R_key_pred;
-      s->rotation_source = RotationSource::kPrediction;
-    }
-    s->R_world_cam = r.R_world_key * R_key_cur;
-    const double angle = Eigen::AngleAxisd(R_key_cur).angle();
-    s->rotation_keyframe =
-        ++r.frames_since_key >= config_.rotation_keyframe_interval ||
-        float(s->overlap_pixels) < config_.rotation_keyframe_min_overlap * float(px) ||
-        angle >= config_.rotation_keyframe_max_angle;
+    matchRotationKeyframe(R_pred, s);
   }
   // Re-orthonormalise so that rounding never accumulates into a non-rotation.
   s->R_world_cam = Eigen::Quaterniond(s->R_world_cam).normalized().toRotationMatrix();
-  if (s->rotation_keyframe) {
-    r.has_keyframe = true;
-    r.key_normals.width = s->normals.width;
-    r.key_normals.height = s->normals.height;
-    r.key_normals.normal.assign(s->normals.normal.begin(), s->normals.normal.end());
-    r.key_normals.valid.assign(s->normals.valid.begin(), s->normals.valid.end());
-    r.key_normals.points.assign(s->normals.points.begin(), s->normals.points.end());
-    r.key_normals.smooth.assign(s->normals.smooth.begin(), s->normals.smooth.end());
-    r.R_world_key = s->R_world_cam;
-    r.frames_since_key = 0;
-  }
+  if (s->rotation_keyframe) makeRotationKeyframe(*s);
   r.motion.update(rotationOnly(s->R_world_cam), s->rotation_source == RotationSource::kPlanes ||
                                                     s->rotation_source == RotationSource::kInitial);
   s->times.rotation_s = secondsSince(t0);
+}
+
+// Paper Alg. 1 and Eqs. 5-8: planes seen in both the keyframe and this frame give the rotation;
+// with one plane the prediction is corrected to agree with it, with none it stands. Decides
+// whether this frame becomes the next rotation keyframe.
+void Odometry::matchRotationKeyframe(const Matrix3d& R_pred, FrameState* s) {
+  RotationState& r = *rot_;
+  const int px = r.normal_map_pixels;
+  r.tracker.track(r.key_normals, s->normals, r.tracking, &r.tracked);
+  s->overlap_pixels = r.tracked.overlap_pixels;
+
+  const Matrix3d R_key_pred = r.R_world_key.transpose() * R_pred;
+  Matrix3d R_key_cur;
+  const auto solution =
+      solveRotation(r.tracked.planes, config_.rotation_method, config_.parallel_dot,
+                    config_.plane_unchanged_tolerance, config_.plane_max_residual);
+  if (solution) {
+    R_key_cur = solution->rotation;
+    s->planes_used = solution->planes_used;
+    s->rotation_source = RotationSource::kPlanes;
+  } else if (!r.tracked.planes.empty()) {
+    const PlanePair& p = r.tracked.planes.front();
+    R_key_cur =
+        minimalRotation(R_key_pred * p.cur.cast<double>(), p.key.cast<double>()) * R_key_pred;
+    s->planes_used = 1;
+    s->rotation_source = RotationSource::kOnePlane;
+  } else {
+    R_key_cur = R_key_pred;
+    s->rotation_source = RotationSource::kPrediction;
+  }
+  s->R_world_cam = r.R_world_key * R_key_cur;
+  const double angle = Eigen::AngleAxisd(R_key_cur).angle();
+  s->rotation_keyframe =
+      ++r.frames_since_key >= config_.rotation_keyframe_interval ||
+      float(s->overlap_pixels) < config_.rotation_keyframe_min_overlap * float(px) ||
+      angle >= config_.rotation_keyframe_max_angle;
+}
+
+void Odometry::makeRotationKeyframe(const FrameState& s) {
+  RotationState& r = *rot_;
+  r.has_keyframe = true;
+  r.key_normals.width = s.normals.width;
+  r.key_normals.height = s.normals.height;
+  r.key_normals.normal.assign(s.normals.normal.begin(), s.normals.normal.end());
+  r.key_normals.valid.assign(s.normals.valid.begin(), s.normals.valid.end());
+  r.key_normals.points.assign(s.normals.points.begin(), s.normals.points.end());
+  r.key_normals.smooth.assign(s.normals.smooth.begin(), s.normals.smooth.end());
+  r.R_world_key = s.R_world_cam;
+  r.frames_since_key = 0;
 }
 
 CloudView Odometry::projectionCloud(const FrameState& s) const {

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -61,82 +62,82 @@ Matrix3d rotationFromTwoPlanes(const Vector3d& key1, const Vector3d& cur1, const
   return Eigen::AngleAxisd(std::atan2(s, co), axis).toRotationMatrix();
 }
 
-Matrix3d rotationClosedForm(const std::vector<PlanePair>& planes) {
-  Matrix3d H = Matrix3d::Zero();
-  for (const auto& p : planes) {
-    H += double(p.pixels) * p.key.cast<double>() * p.cur.cast<double>().transpose();
-  }
-  return kabsch(H);
-}
-
 Matrix3d minimalRotation(const Vector3d& from, const Vector3d& to) {
   return Eigen::Quaterniond::FromTwoVectors(from, to).toRotationMatrix();
 }
 
-std::optional<RotationSolution> solveRotation(const std::vector<PlanePair>& planes,
-                                              RotationMethod method, double parallel_dot,
-                                              double unchanged_tolerance, double max_residual) {
-  const size_t n = planes.size();
-  auto non_parallel = [&](size_t i, size_t j) {
-    return std::abs(planes[i].key.dot(planes[j].key)) < parallel_dot &&
-           std::abs(planes[i].cur.dot(planes[j].cur)) < parallel_dot;
-  };
-  bool any_pair = false;
-  for (size_t i = 0; i < n && !any_pair; ++i)
-    for (size_t j = i + 1; j < n && !any_pair; ++j) any_pair = non_parallel(i, j);
-  if (!any_pair) return std::nullopt;
+namespace {
 
+bool nonParallel(const PlanePair& a, const PlanePair& b, double parallel_dot) {
+  return std::abs(a.key.dot(b.key)) < parallel_dot && std::abs(a.cur.dot(b.cur)) < parallel_dot;
+}
+
+// Whether the planes whose bits are set in `used` hold a pair of non-parallel planes.
+bool hasNonParallelPair(const std::vector<PlanePair>& planes, uint64_t used, double parallel_dot) {
+  const size_t n = std::min<size_t>(planes.size(), 64);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j)
+      if (((used >> i) & 1) && ((used >> j) & 1) && nonParallel(planes[i], planes[j], parallel_dot))
+        return true;
+  return false;
+}
+
+double residualAngle(const Matrix3d& R, const PlanePair& p) {
+  const double c = (R * p.cur.cast<double>()).dot(p.key.cast<double>());
+  return std::acos(std::clamp(c, -1.0, 1.0));
+}
+
+// Weighted fit over all planes; a plane that disagrees (a mis-fitted or mis-associated one) is
+// dropped and the fit repeated, while two non-parallel planes remain.
+RotationSolution closedFormDroppingOutliers(const std::vector<PlanePair>& planes,
+                                            double parallel_dot, double max_residual) {
+  const size_t n = planes.size();
+  uint64_t used = n >= 64 ? ~uint64_t(0) : (uint64_t(1) << n) - 1;
+  auto is_used = [&](size_t i) { return i < 64 && (used >> i) & 1; };
+  RotationSolution best;
+  for (;;) {
+    Matrix3d H = Matrix3d::Zero();
+    int count = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (!is_used(i)) continue;
+      H += double(planes[i].pixels) * planes[i].key.cast<double>() *
+           planes[i].cur.cast<double>().transpose();
+      ++count;
+    }
+    best.rotation = kabsch(H);
+    best.planes_used = count;
+    size_t worst = n;
+    double worst_residual = max_residual;
+    for (size_t i = 0; i < n; ++i) {
+      if (!is_used(i)) continue;
+      const double residual = residualAngle(best.rotation, planes[i]);
+      if (residual > worst_residual) worst_residual = residual, worst = i;
+    }
+    if (worst == n || count <= 2) break;
+    const uint64_t without = used & ~(uint64_t(1) << worst);
+    if (!hasNonParallelPair(planes, without, parallel_dot)) break;
+    used = without;
+  }
+  return best;
+}
+
+// Paper Sec. 3.1: the rotation of every non-parallel pair, scored by the angular residual of
+// the other planes weighted by their size; the best scoring one.
+RotationSolution bestPair(const std::vector<PlanePair>& planes, double parallel_dot,
+                          double unchanged_tolerance) {
+  const size_t n = planes.size();
   RotationSolution best;
   best.planes_used = int(n);
-  if (method == RotationMethod::kClosedForm) {
-    // Weighted fit over all planes; a plane that disagrees (a mis-fitted or mis-associated one)
-    // is dropped and the fit repeated, while two non-parallel planes remain.
-    uint64_t used = n >= 64 ? ~uint64_t(0) : (uint64_t(1) << n) - 1;
-    auto is_used = [&](size_t i) { return i < 64 && (used >> i) & 1; };
-    for (;;) {
-      Matrix3d H = Matrix3d::Zero();
-      int count = 0;
-      for (size_t i = 0; i < n; ++i) {
-        if (!is_used(i)) continue;
-        H += double(planes[i].pixels) * planes[i].key.cast<double>() *
-             planes[i].cur.cast<double>().transpose();
-        ++count;
-      }
-      best.rotation = kabsch(H);
-      best.planes_used = count;
-      size_t worst = n;
-      double worst_residual = max_residual;
-      for (size_t i = 0; i < n; ++i) {
-        if (!is_used(i)) continue;
-        const double c =
-            (best.rotation * planes[i].cur.cast<double>()).dot(planes[i].key.cast<double>());
-        const double residual = std::acos(std::clamp(c, -1.0, 1.0));
-        if (residual > worst_residual) worst_residual = residual, worst = i;
-      }
-      if (worst == n || count <= 2) break;
-      const uint64_t without = used & ~(uint64_t(1) << worst);
-      bool pair_left = false;
-      for (size_t i = 0; i < n && !pair_left; ++i)
-        for (size_t j = i + 1; j < n && !pair_left; ++j)
-          pair_left = ((without >> i) & 1) && ((without >> j) & 1) && non_parallel(i, j);
-      if (!pair_left) break;
-      used = without;
-    }
-    return best;
-  }
   double best_score = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < n; ++i) {
     for (size_t j = i + 1; j < n; ++j) {
-      if (!non_parallel(i, j)) continue;
+      if (!nonParallel(planes[i], planes[j], parallel_dot)) continue;
       const Matrix3d R = rotationFromTwoPlanes(
           planes[i].key.cast<double>(), planes[i].cur.cast<double>(), planes[j].key.cast<double>(),
           planes[j].cur.cast<double>(), unchanged_tolerance);
-      double score = 0;  // angular residual of the other planes, weighted by their size
-      for (size_t k = 0; k < n; ++k) {
-        if (k == i || k == j) continue;
-        const double c = (R * planes[k].cur.cast<double>()).dot(planes[k].key.cast<double>());
-        score += planes[k].pixels * std::acos(std::clamp(c, -1.0, 1.0));
-      }
+      double score = 0;
+      for (size_t k = 0; k < n; ++k)
+        if (k != i && k != j) score += planes[k].pixels * residualAngle(R, planes[k]);
       if (score < best_score) {
         best_score = score;
         best.rotation = R;
@@ -144,6 +145,21 @@ std::optional<RotationSolution> solveRotation(const std::vector<PlanePair>& plan
     }
   }
   return best;
+}
+
+}  // namespace
+
+std::optional<RotationSolution> solveRotation(const std::vector<PlanePair>& planes,
+                                              RotationMethod method, double parallel_dot,
+                                              double unchanged_tolerance, double max_residual) {
+  bool any_pair = false;
+  for (size_t i = 0; i < planes.size() && !any_pair; ++i)
+    for (size_t j = i + 1; j < planes.size() && !any_pair; ++j)
+      any_pair = nonParallel(planes[i], planes[j], parallel_dot);
+  if (!any_pair) return std::nullopt;
+  if (method == RotationMethod::kClosedForm)
+    return closedFormDroppingOutliers(planes, parallel_dot, max_residual);
+  return bestPair(planes, parallel_dot, unchanged_tolerance);
 }
 
 }  // namespace nidevo

@@ -37,6 +37,10 @@ class KernelCrossCorrelator {
   const float* response() const { return response_; }
 
  private:
+  void correlate(const float* const* channels);
+  double responseAt(int u, int v) const;  // wraps around, the response is circular
+  void addSubpixelOffset(int pu, int pv, double* du, double* dv) const;
+  double peakToSidelobe(int pu, int pv, double peak, int exclusion) const;
   void forward(const float* in, std::complex<float>* out);
   void gaussianCorrelation(const std::complex<float>* const* a, double aa,
                            const std::complex<float>* const* b, double bb, float* out);

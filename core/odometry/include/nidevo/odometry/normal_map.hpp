@@ -30,6 +30,13 @@ class NormalMapBuilder {
                NormalMap* out);
 
  private:
+  static float* rowOf(std::vector<float>& plane, int width, int v);
+  void backProject(const DepthImageF& depth, const Camera& cam, int stride, float min_depth,
+                   float max_depth, NormalMap* out);
+  void rawNormals(int width, int height, float depth_discontinuity);
+  void boxFilter(int width, int height, int cell_size, NormalMap* out);
+  void markSmooth(int width, int height, float crease_dot, NormalMap* out);
+
   // Planes of floats (one per component) rather than Vector3f, so that the per-pixel loops
   // vectorise; each holds one value per map pixel.
   std::vector<float> z_;             // depth, 0 where missing

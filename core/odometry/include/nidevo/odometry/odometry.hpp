@@ -94,6 +94,8 @@ class Odometry {
  private:
   struct RotationState;
   struct TranslationState;
+  void matchRotationKeyframe(const Eigen::Matrix3d& R_pred, FrameState* state);
+  void makeRotationKeyframe(const FrameState& state);
   void makeTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_world_cam);
   // Returns why the translation was predicted instead, or nullptr; sets *T_world_cam.
   const char* matchTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_pred,

@@ -24,9 +24,6 @@ Eigen::Matrix3d rotationFromTwoPlanes(const Eigen::Vector3d& key1, const Eigen::
 double angleAboutAxis(const Eigen::Vector3d& axis, const Eigen::Vector3d& key,
                       const Eigen::Vector3d& cur);
 
-// Weighted least-squares rotation over all pairs (SVD); needs two non-parallel normals.
-Eigen::Matrix3d rotationClosedForm(const std::vector<PlanePair>& planes);
-
 struct RotationSolution {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   int planes_used = 0;  // planes that defined or scored the rotation
