@@ -147,21 +147,71 @@ void enableReflection() {
                              dlerror());
 }
 
+// Serves /metrics on the configured address; returns the bound port, 0 when metrics are off,
+// -1 (with a message) when the address cannot be bound.
+int serveMetrics(const ServerConfig& config, nidevo::server::ServerMetrics& metrics,
+                 std::unique_ptr<prometheus::Exposer>* exposer) {
+  if (config.metrics_address.empty()) return 0;
+  try {
+    *exposer = std::make_unique<prometheus::Exposer>(config.metrics_address);
+  } catch (const std::exception& e) {
+    std::cerr << "nidevo-server: cannot serve metrics on " << config.metrics_address << ": "
+              << e.what() << "\n";
+    return -1;
+  }
+  (*exposer)->RegisterCollectable(metrics.registry());
+  return (*exposer)->GetListeningPorts().at(0);
+}
+
+// Listening port, message size and the HTTP/2 keepalive and connection-age policy.
+void configureTransport(const ServerConfig& config, grpc::ServerBuilder* builder, int* grpc_port) {
+  builder->AddListeningPort(config.address, credentials(), grpc_port);
+  builder->SetMaxReceiveMessageSize(int(std::min<int64_t>(config.max_message_bytes, INT32_MAX)));
+  builder->AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, ms(config.keepalive_time_s));
+  builder->AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, ms(config.keepalive_timeout_s));
+  builder->AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
+                              ms(config.min_client_ping_interval_s));
+  builder->AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  if (config.max_connection_age_s > 0) {
+    builder->AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_MS, ms(config.max_connection_age_s));
+    if (config.max_connection_age_grace_s > 0)
+      builder->AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_GRACE_MS,
+                                  ms(config.max_connection_age_grace_s));
+  }
+}
+
+int waitForStopSignal() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  int signal_number = 0;
+  sigwait(&signals, &signal_number);
+  return signal_number;
+}
+
+// Health and server info keep answering while open streams finish, so probes and load balancers
+// see NOT_SERVING rather than a closed port; new streams get UNAVAILABLE. What is still open at
+// the drain deadline is cancelled. Returns how many were.
+int drain(const ServerConfig& config, nidevo::server::OdometryService& service,
+          grpc::Server& server) {
+  server.GetHealthCheckService()->Shutdown();
+  service.beginDrain();
+  const auto drain_end =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(ms(config.drain_timeout_s));
+  while (service.activeSessions() > 0 && std::chrono::steady_clock::now() < drain_end)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const int cancelled = service.activeSessions();
+  server.Shutdown(std::chrono::system_clock::now());  // cancels what is still open
+  server.Wait();
+  return cancelled;
+}
+
 int run(const ServerConfig& config) {
   nidevo::server::ServerMetrics metrics(NIDEVO_VERSION);
   std::unique_ptr<prometheus::Exposer> exposer;  // after the registry (see build notes)
-  int metrics_port = 0;
-  if (!config.metrics_address.empty()) {
-    try {
-      exposer = std::make_unique<prometheus::Exposer>(config.metrics_address);
-    } catch (const std::exception& e) {
-      std::cerr << "nidevo-server: cannot serve metrics on " << config.metrics_address << ": "
-                << e.what() << "\n";
-      return 1;
-    }
-    exposer->RegisterCollectable(metrics.registry());
-    metrics_port = exposer->GetListeningPorts().at(0);
-  }
+  const int metrics_port = serveMetrics(config, metrics, &exposer);
+  if (metrics_port < 0) return 1;
   warmUp(config.odometry);
 
   auto pool = std::make_unique<nidevo::server::WorkerPool>(config.workers);
@@ -170,19 +220,7 @@ int run(const ServerConfig& config) {
   if (config.reflection) enableReflection();
   grpc::ServerBuilder builder;
   int grpc_port = 0;
-  builder.AddListeningPort(config.address, credentials(), &grpc_port);
-  builder.SetMaxReceiveMessageSize(int(std::min<int64_t>(config.max_message_bytes, INT32_MAX)));
-  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, ms(config.keepalive_time_s));
-  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, ms(config.keepalive_timeout_s));
-  builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
-                             ms(config.min_client_ping_interval_s));
-  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
-  if (config.max_connection_age_s > 0) {
-    builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_MS, ms(config.max_connection_age_s));
-    if (config.max_connection_age_grace_s > 0)
-      builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_GRACE_MS,
-                                 ms(config.max_connection_age_grace_s));
-  }
+  configureTransport(config, &builder, &grpc_port);
   builder.RegisterService(service.get());
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || grpc_port == 0) {
@@ -199,27 +237,12 @@ int run(const ServerConfig& config) {
             << config.workers << " workers, at most " << config.max_sessions << " sessions"
             << std::endl;
 
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGTERM);
-  sigaddset(&signals, SIGINT);
-  int signal_number = 0;
-  sigwait(&signals, &signal_number);
-
+  const int signal_number = waitForStopSignal();
   std::cerr << "nidevo-server: " << (signal_number == SIGTERM ? "SIGTERM" : "SIGINT")
             << ", draining " << service->activeSessions() << " sessions for up to "
             << config.drain_timeout_s << " s" << std::endl;
-  // Health and server info keep answering while open streams finish, so probes and load
-  // balancers see NOT_SERVING rather than a closed port; new streams get UNAVAILABLE.
-  health->Shutdown();
-  service->beginDrain();
   const auto drain_start = std::chrono::steady_clock::now();
-  const auto drain_end = drain_start + std::chrono::milliseconds(ms(config.drain_timeout_s));
-  while (service->activeSessions() > 0 && std::chrono::steady_clock::now() < drain_end)
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  const int cancelled = service->activeSessions();
-  server->Shutdown(std::chrono::system_clock::now());  // cancels what is still open
-  server->Wait();
+  const int cancelled = drain(config, *service, *server);
   if (cancelled > 0)
     std::cerr << "nidevo-server: drain deadline passed, cancelled " << cancelled << " sessions"
               << std::endl;

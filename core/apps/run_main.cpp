@@ -25,6 +25,34 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// Rate, stage medians and tracking counts of a run; returns the estimated trajectory.
+nidevo::Trajectory printSummary(const std::vector<nidevo::PoseEstimate>& poses, double secs,
+                                int threads) {
+  nidevo::Trajectory estimate;
+  std::vector<double> t_normals, t_rotation, t_translation;
+  int counts[3] = {0, 0, 0}, rot_keys = 0, trans_keys = 0;
+  std::vector<double> psr;
+  for (const auto& p : poses) {
+    estimate.push_back(nidevo::StampedPose::fromPose(p.timestamp, p.T_world_cam));
+    t_normals.push_back(p.times.normals_s);
+    t_rotation.push_back(p.times.rotation_s);
+    t_translation.push_back(p.times.translation_s);
+    ++counts[int(p.state)];
+    rot_keys += p.rotation_keyframe;
+    trans_keys += p.translation_keyframe;
+    if (p.psr > 0) psr.push_back(p.psr);
+  }
+  std::printf("odometry: %zu frames in %.3f s = %.1f frames/s (%d thread%s)\n", poses.size(), secs,
+              double(poses.size()) / secs, threads, threads > 1 ? "s" : "");
+  std::printf("stage medians: normals %.2f ms, rotation %.2f ms, translation %.2f ms\n",
+              1e3 * median(t_normals), 1e3 * median(t_rotation), 1e3 * median(t_translation));
+  std::printf(
+      "tracking: %d OK, %d DEGRADED, %d LOST; keyframes: %d rotation, %d translation; "
+      "median PSR %.1f\n",
+      counts[0], counts[1], counts[2], rot_keys, trans_keys, median(psr));
+  return estimate;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -55,29 +83,7 @@ int main(int argc, char** argv) {
     const double secs =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    nidevo::Trajectory estimate;
-    std::vector<double> t_normals, t_rotation, t_translation;
-    int counts[3] = {0, 0, 0}, rot_keys = 0, trans_keys = 0;
-    std::vector<double> psr;
-    for (const auto& p : poses) {
-      estimate.push_back(nidevo::StampedPose::fromPose(p.timestamp, p.T_world_cam));
-      t_normals.push_back(p.times.normals_s);
-      t_rotation.push_back(p.times.rotation_s);
-      t_translation.push_back(p.times.translation_s);
-      ++counts[int(p.state)];
-      rot_keys += p.rotation_keyframe;
-      trans_keys += p.translation_keyframe;
-      if (p.psr > 0) psr.push_back(p.psr);
-    }
-    std::printf("odometry: %zu frames in %.3f s = %.1f frames/s (%d thread%s)\n", poses.size(),
-                secs, double(poses.size()) / secs, threads, threads > 1 ? "s" : "");
-    std::printf("stage medians: normals %.2f ms, rotation %.2f ms, translation %.2f ms\n",
-                1e3 * median(t_normals), 1e3 * median(t_rotation), 1e3 * median(t_translation));
-    std::printf(
-        "tracking: %d OK, %d DEGRADED, %d LOST; keyframes: %d rotation, %d translation; "
-        "median PSR %.1f\n",
-        counts[0], counts[1], counts[2], rot_keys, trans_keys, median(psr));
-
+    const nidevo::Trajectory estimate = printSummary(poses, secs, threads);
     const std::string out = absl::GetFlag(FLAGS_out);
     if (!out.empty()) {
       nidevo::writeTumTrajectory(out, estimate);
