@@ -8,6 +8,7 @@
 #include "nidevo/cli/cli.hpp"
 #include "nidevo/cli/odometry_flags.hpp"
 #include "nidevo/eval/evaluation_report.hpp"
+#include "nidevo/eval/metrics.hpp"
 #include "nidevo/loader/frame_loader.hpp"
 #include "nidevo/loader/sequence_flags.hpp"
 #include "nidevo/odometry/odometry.hpp"
@@ -93,6 +94,14 @@ int main(int argc, char** argv) {
       std::printf("\n");
       nidevo::cli::printEvaluation(estimate, seq.ground_truth, 0.005, 1, absl::GetFlag(FLAGS_plot),
                                    seq.name + ": ");
+      std::vector<bool> ok;
+      for (const auto& p : poses) ok.push_back(p.state == nidevo::TrackingState::kOk);
+      const auto silent =
+          nidevo::countSilentFailures(estimate, ok, seq.ground_truth, 2.0, 0.05, 0.005);
+      std::printf(
+          "silent failures (OK, but over 2 deg or 5 cm off since the previous frame): %d of %d "
+          "OK frames\n",
+          silent.count, silent.judged);
     }
   } catch (const std::exception& e) {
     std::cerr << "nidevo-run: " << e.what() << "\n";

@@ -81,5 +81,33 @@ TEST(Rpe, MeasuresAKnownDriftPerFrame) {
   EXPECT_NEAR(rpe.translation.mean, 0.001, 1e-9);
 }
 
+TEST(SilentFailures, CountPlantedErrorsOnlyWhereTheMethodReportedGood) {
+  const Trajectory ref = helix(40);
+  Trajectory est = ref;
+  // Frame 10 jumps 10 cm and comes back at 11: the motions into 10 and into 11 are both wrong.
+  Eigen::Isometry3d jumped = ref[10].pose();
+  jumped.translation() += Eigen::Vector3d(0.1, 0, 0);
+  est[10] = StampedPose::fromPose(ref[10].timestamp, jumped);
+  // Frame 30 turns 3 degrees too far, and stays turned: only the motion into 30 is wrong.
+  for (size_t i = 30; i < est.size(); ++i) {
+    Eigen::Isometry3d turned = ref[i].pose();
+    turned.linear() = turned.linear() * Eigen::AngleAxisd(3 * M_PI / 180, Eigen::Vector3d::UnitY());
+    est[i] = StampedPose::fromPose(ref[i].timestamp, turned);
+  }
+  std::vector<bool> good(est.size(), true);
+  SilentFailures all = countSilentFailures(est, good, ref);
+  EXPECT_EQ(all.count, 3);
+  EXPECT_EQ(all.judged, 39);
+  ASSERT_EQ(all.timestamps.size(), 3u);
+  EXPECT_DOUBLE_EQ(all.timestamps[0], ref[10].timestamp);
+  EXPECT_DOUBLE_EQ(all.timestamps[2], ref[30].timestamp);
+  good[10] = false;  // the method said frame 10 was not good: not silent
+  good[30] = false;
+  EXPECT_EQ(countSilentFailures(est, good, ref).count, 1);
+  // With wider bounds (5 degrees, 20 cm) none of these errors counts.
+  EXPECT_EQ(countSilentFailures(est, std::vector<bool>(est.size(), true), ref, 5.0, 0.2).count, 0);
+  EXPECT_THROW(countSilentFailures(est, std::vector<bool>(3, true), ref), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace nidevo

@@ -87,6 +87,48 @@ RpeResult computeRpe(const MatchedTrajectories& m, int delta) {
   return {computeStatistics(et), computeStatistics(er)};
 }
 
+namespace {
+
+// The reference pose nearest in time to t within max_difference (reference sorted by time).
+const StampedPose* nearestPose(const Trajectory& reference, double t, double max_difference) {
+  auto it = std::lower_bound(reference.begin(), reference.end(), t,
+                             [](const StampedPose& p, double x) { return p.timestamp < x; });
+  const StampedPose* best = nullptr;
+  for (auto c : {it, it == reference.begin() ? it : std::prev(it)}) {
+    if (c == reference.end()) continue;
+    const double d = std::abs(c->timestamp - t);
+    if (d <= max_difference && (!best || d < std::abs(best->timestamp - t))) best = &*c;
+  }
+  return best;
+}
+
+}  // namespace
+
+SilentFailures countSilentFailures(const Trajectory& estimate,
+                                   const std::vector<bool>& reported_good,
+                                   const Trajectory& reference, double max_rotation_deg,
+                                   double max_translation_m, double max_difference) {
+  if (reported_good.size() != estimate.size())
+    throw std::invalid_argument("countSilentFailures: one good flag per estimated pose needed");
+  SilentFailures out;
+  for (size_t i = 1; i < estimate.size(); ++i) {
+    if (!reported_good[i]) continue;
+    const StampedPose* r0 = nearestPose(reference, estimate[i - 1].timestamp, max_difference);
+    const StampedPose* r1 = nearestPose(reference, estimate[i].timestamp, max_difference);
+    if (!r0 || !r1) continue;
+    const Eigen::Isometry3d ref_rel = r0->pose().inverse() * r1->pose();
+    const Eigen::Isometry3d est_rel = estimate[i - 1].pose().inverse() * estimate[i].pose();
+    const Eigen::Isometry3d err = ref_rel.inverse() * est_rel;
+    ++out.judged;
+    const double angle_deg = Eigen::AngleAxisd(err.rotation()).angle() * 180.0 / M_PI;
+    if (angle_deg > max_rotation_deg || err.translation().norm() > max_translation_m) {
+      ++out.count;
+      out.timestamps.push_back(estimate[i].timestamp);
+    }
+  }
+  return out;
+}
+
 std::string formatStatisticsTable(const std::string& title, const ErrorStatistics& s,
                                   const std::string& unit) {
   char buf[512];

@@ -41,6 +41,20 @@ struct RpeResult {
 // Relative error between frames i and i + delta (evo's RPE with delta in frames).
 RpeResult computeRpe(const MatchedTrajectories& matched, int delta = 1);
 
+// Frames a method reported as good whose motion since the previous frame is wrong by more than
+// the bounds against the reference: the failures nobody was told about. Frame i is judged when
+// frames i-1 and i both match a reference pose within max_difference seconds.
+struct SilentFailures {
+  int count = 0;                   // judged, reported good, and wrong
+  int judged = 0;                  // judged and reported good
+  std::vector<double> timestamps;  // of the silent failures
+};
+// `reported_good[i]` says whether the method called estimate[i] good (OK).
+SilentFailures countSilentFailures(const Trajectory& estimate,
+                                   const std::vector<bool>& reported_good,
+                                   const Trajectory& reference, double max_rotation_deg = 2.0,
+                                   double max_translation_m = 0.05, double max_difference = 0.01);
+
 // A table like evo_ape/evo_rpe print.
 std::string formatStatisticsTable(const std::string& title, const ErrorStatistics& stats,
                                   const std::string& unit);
