@@ -1,9 +1,21 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages that the build needs; with --tests also what the tests and the
 # deployment checks use (Prometheus + promtool, Python gRPC, docker-compose, Node for the
-# Kubernetes schema check). Idempotent and non-interactive; quick when everything is present.
+# Kubernetes schema check); with --bench the peer odometries nidevo-bench compares against
+# (OpenCV-contrib's rgbd module, Open3D). Idempotent and non-interactive; quick when everything
+# is present. Usage: setup.sh [--tests] [--bench]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+tests=0
+bench=0
+for arg in "$@"; do
+  case "$arg" in
+    --tests) tests=1 ;;
+    --bench) bench=1 ;;
+    *) echo "setup.sh: unknown option '$arg' (--tests, --bench)" >&2; exit 2 ;;
+  esac
+done
 
 packages=(
   build-essential cmake ninja-build pkg-config
@@ -15,7 +27,10 @@ packages=(
   prometheus-cpp-dev libcurl4-openssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
-if [ "${1:-}" = "--tests" ]; then
+if [ $bench -eq 1 ]; then
+  packages+=(libopencv-contrib-dev libopen3d-dev)
+fi
+if [ $tests -eq 1 ]; then
   packages+=(prometheus python3-grpcio python3-grpc-tools docker-compose yamllint curl clang-format)
   # kubectl renders the kustomize manifests; Debian's (1.20) does if none is installed.
   command -v kubectl >/dev/null || packages+=(kubernetes-client)
@@ -36,7 +51,7 @@ else
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-if [ "${1:-}" = "--tests" ] && [ -f deploy/validate/package.json ]; then
+if [ $tests -eq 1 ] && [ -f deploy/validate/package.json ]; then
   command -v npm >/dev/null || { echo "setup: the Kubernetes check needs Node.js and npm" >&2; exit 1; }
   # The Kubernetes schema check's npm packages, pinned by the lock file, kept out of the tree.
   if [ ! -d build/npm/node_modules/kubernetes-models ]; then

@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
 
-scripts/setup.sh --tests
+scripts/setup.sh --tests --bench
 scripts/build.sh -DNIDEVO_BUILD_TESTS=ON
 
 echo "== tests (Release)"
