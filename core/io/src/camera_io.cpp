@@ -48,12 +48,13 @@ Camera readCameraFile(const std::string& path) {
       throw std::runtime_error(path + ":" + std::to_string(line_no) +
                                ": expected 'key value', got '" + line + "'");
     }
-    static const char* kKeys[] = {"fx", "fy", "cx", "cy", "width", "height", "depth_scale"};
+    static const char* kKeys[] = {"fx",          "fy", "cx", "cy", "width", "height",
+                                  "depth_scale", "k1", "k2", "p1", "p2",    "k3"};
     bool known = false;
     for (const char* k : kKeys) known = known || key == k;
     if (!known) {
       throw std::runtime_error(path + ":" + std::to_string(line_no) + ": unknown key '" + key +
-                               "' (expected fx fy cx cy width height depth_scale)");
+                               "' (expected fx fy cx cy width height depth_scale k1 k2 p1 p2 k3)");
     }
     values[key] = value;
   }
@@ -68,6 +69,10 @@ Camera readCameraFile(const std::string& path) {
   c.width = int(values["width"]);
   c.height = int(values["height"]);
   if (values.count("depth_scale")) c.depth_scale = values["depth_scale"];
+  Distortion& d = c.distortion;
+  for (auto [key, field] :
+       {std::pair{"k1", &d.k1}, {"k2", &d.k2}, {"p1", &d.p1}, {"p2", &d.p2}, {"k3", &d.k3}})
+    if (values.count(key)) *field = values[key];
   if (auto err = c.validate(); !err.empty()) throw std::runtime_error(path + ": " + err);
   return c;
 }
@@ -79,6 +84,11 @@ void writeCameraFile(const std::string& path, const Camera& c) {
   out << "# nidevo camera: pinhole intrinsics, image size, raw depth units per metre\n"
       << "fx " << c.fx << "\nfy " << c.fy << "\ncx " << c.cx << "\ncy " << c.cy << "\nwidth "
       << c.width << "\nheight " << c.height << "\ndepth_scale " << c.depth_scale << "\n";
+  if (!c.distortion.none()) {
+    const Distortion& d = c.distortion;
+    out << "# Brown-Conrady distortion (plumb_bob)\nk1 " << d.k1 << "\nk2 " << d.k2 << "\np1 "
+        << d.p1 << "\np2 " << d.p2 << "\nk3 " << d.k3 << "\n";
+  }
   if (!out) throw std::runtime_error(path + ": write failed");
 }
 

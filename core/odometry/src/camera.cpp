@@ -1,8 +1,34 @@
 #include "nidevo/odometry/camera.hpp"
 
+#include <Eigen/LU>
 #include <cmath>
 
 namespace nidevo {
+
+Eigen::Vector2d Distortion::distort(const Eigen::Vector2d& p) const {
+  const double x = p.x(), y = p.y(), r2 = x * x + y * y;
+  const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+  return {x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
+          y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y};
+}
+
+// Newton's method on distort(p) = d from p = d, with the Jacobian by central differences; it
+// stays where a fixed-point iteration diverges (strong distortion near the image corners).
+Eigen::Vector2d Distortion::undistort(const Eigen::Vector2d& d) const {
+  Eigen::Vector2d p = d;
+  constexpr double kStep = 1e-6;
+  for (int i = 0; i < 20; ++i) {
+    const Eigen::Vector2d residual = distort(p) - d;
+    if (residual.squaredNorm() < 1e-24) break;
+    Eigen::Matrix2d J;
+    J.col(0) = (distort(p + Eigen::Vector2d(kStep, 0)) - distort(p - Eigen::Vector2d(kStep, 0))) /
+               (2 * kStep);
+    J.col(1) = (distort(p + Eigen::Vector2d(0, kStep)) - distort(p - Eigen::Vector2d(0, kStep))) /
+               (2 * kStep);
+    p -= J.inverse() * residual;
+  }
+  return p;
+}
 
 std::string Camera::validate() const {
   auto bad_focal = [](double f) { return !std::isfinite(f) || std::abs(f) < 1e-6; };
@@ -13,6 +39,9 @@ std::string Camera::validate() const {
   if (!std::isfinite(cx) || cx < -width || cx > 2.0 * width) return "cx is far outside the image";
   if (!std::isfinite(cy) || cy < -height || cy > 2.0 * height) return "cy is far outside the image";
   if (!std::isfinite(depth_scale) || depth_scale <= 0) return "depth_scale must be positive";
+  for (double k : {distortion.k1, distortion.k2, distortion.p1, distortion.p2, distortion.k3})
+    if (!std::isfinite(k) || std::abs(k) > 10)
+      return "distortion coefficients must be in [-10, 10]";
   return {};
 }
 

@@ -155,8 +155,12 @@ Scene makeScene(const std::string& name) {
     s = corner();
   else if (name == "gap")
     s = gap();
+  else if (name.rfind("random:", 0) == 0 && name.size() > 7 &&
+           name.find_first_not_of("0123456789", 7) == std::string::npos)
+    s = makeRandomScene(std::stoull(name.substr(7)));
   else
-    throw std::invalid_argument("unknown scene '" + name + "' (office, corridor, corner, gap)");
+    throw std::invalid_argument("unknown scene '" + name +
+                                "' (office, corridor, corner, gap, random:SEED)");
   s.light_dir.normalize();
   return s;
 }

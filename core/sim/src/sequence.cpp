@@ -20,16 +20,39 @@ using Eigen::Vector3d;
 SensorNoise parseSensorNoise(const std::string& name) {
   if (name == "none") return SensorNoise::kNone;
   if (name == "icl") return SensorNoise::kIclLike;
-  throw std::invalid_argument("unknown noise '" + name + "' (none, icl)");
+  if (name == "kinect") return SensorNoise::kStructuredLight;
+  throw std::invalid_argument("unknown noise '" + name + "' (none, icl, kinect)");
 }
 
-const char* toString(SensorNoise n) { return n == SensorNoise::kNone ? "none" : "icl"; }
+const char* toString(SensorNoise n) {
+  switch (n) {
+    case SensorNoise::kNone:
+      return "none";
+    case SensorNoise::kIclLike:
+      return "icl";
+    case SensorNoise::kStructuredLight:
+      return "kinect";
+  }
+  return "?";
+}
+
+double structuredLightDepth(double depth, double disparity_noise_px, const SequenceConfig& c) {
+  if (!(depth > 0)) return 0;
+  double disparity = c.disparity_focal_baseline / depth + disparity_noise_px;
+  disparity = std::round(disparity / c.sl_disparity_step_px) * c.sl_disparity_step_px;
+  return disparity > 0 ? c.disparity_focal_baseline / disparity : 0.0;
+}
 
 std::string SequenceConfig::validate() const {
   if (frames <= 0 || frames > 1000000) return "frames must be in 1..1000000";
   if (!(rate_hz > 0 && rate_hz <= 1000)) return "rate_hz must be in (0, 1000]";
   if (!(speed > 0 && speed <= 10)) return "speed must be in (0, 10] m/s";
   if (auto e = camera.validate(); !e.empty()) return "camera: " + e;
+  if (!(exposure_jumps_per_s >= 0 && exposure_jumps_per_s <= 100))
+    return "exposure_jumps_per_s must be in [0, 100]";
+  if (!(exposure_jump_min >= 0 && exposure_jump_min <= exposure_jump_max && exposure_jump_max < 1))
+    return "exposure jumps must satisfy 0 <= min <= max < 1";
+  if (!(sl_disparity_step_px > 0)) return "sl_disparity_step_px must be positive";
   return {};
 }
 
@@ -121,13 +144,35 @@ Hit castRay(const std::vector<CamRect>& rects, double x, double y) {
 SyntheticSequence::SyntheticSequence(const SequenceConfig& config)
     : config_(config), scene_(makeScene(config.scene)) {
   if (auto e = config_.validate(); !e.empty()) throw std::invalid_argument(e);
+  const Camera& cam = config_.camera;
+  if (!cam.distortion.none()) {
+    pixel_rays_.resize(size_t(cam.width) * size_t(cam.height));
+    for (int v = 0; v < cam.height; ++v)
+      for (int u = 0; u < cam.width; ++u)
+        pixel_rays_[size_t(v) * size_t(cam.width) + size_t(u)] = rayAt(u, v);
+  }
+  // Auto-exposure: the gain jumps at random frames and holds until the next jump.
+  std::mt19937_64 exposure_rng(config_.seed * 7919ull + 99);
+  std::uniform_real_distribution<double> unit(0, 1);
+  double gain = 1;
+  for (int i = 0; i < config_.frames; ++i) {
+    if (config_.exposure_jumps_per_s > 0 &&
+        unit(exposure_rng) < config_.exposure_jumps_per_s / config_.rate_hz) {
+      const double size =
+          config_.exposure_jump_min +
+          (config_.exposure_jump_max - config_.exposure_jump_min) * unit(exposure_rng);
+      gain = std::clamp(gain * (unit(exposure_rng) < 0.5 ? 1 - size : 1 + size), 0.5, 2.0);
+    }
+    exposure_gain_.push_back(gain);
+  }
   double t = 0;
   const size_t n = scene_.path.size();
   for (size_t i = 0; i < n; ++i) {
     const double len = (scene_.path[(i + 1) % n].position - scene_.path[i].position).norm();
     // Turning the view also takes time, so short hops between far-apart look-at points are slowed.
     const double look = (scene_.path[(i + 1) % n].look_at - scene_.path[i].look_at).norm();
-    t += std::max(len, 0.25 * look) / config_.speed;
+    const double duration = scene_.path[i].duration_s;
+    t += duration > 0 ? duration : std::max(len, 0.25 * look) / config_.speed;
     segment_end_time_.push_back(t);
   }
 }
@@ -205,18 +250,67 @@ double SyntheticSequence::distanceToScene(const Vector3d& p) const {
   return best;
 }
 
+Eigen::Vector2d SyntheticSequence::rayAt(double u, double v) const {
+  const Camera& cam = config_.camera;
+  // Normalised coordinates of the (distorted) image; the ray is where the lens bent them from.
+  const Eigen::Vector2d image((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy);
+  return cam.distortion.none() ? image : cam.distortion.undistort(image);
+}
+
+double SyntheticSequence::exposureGain(uint64_t frame) const {
+  return frame < exposure_gain_.size() ? exposure_gain_[frame] : 1.0;
+}
+
 RenderedFrame SyntheticSequence::render(int index) const {
   return renderAt(groundTruth(index), timestamp(index), uint64_t(index));
 }
+
+namespace {
+
+// Kinect-like: lateral jitter of where the pattern is sampled, then disparity noise and
+// quantisation, then dropouts (grazing angles, beyond the range; for the structured-light model
+// also too close, dark surfaces and depth edges).
+template <typename RayAt>
+double sensorDepth(const SequenceConfig& c, const RayAt& rayAt, const std::vector<CamRect>& rects,
+                   const Hit& hit, double reflectance, int u, int v, std::mt19937_64* rng,
+                   std::normal_distribution<double>* gauss) {
+  const double ju = u + c.lateral_sigma_px * (*gauss)(*rng);
+  const double jv = v + c.lateral_sigma_px * (*gauss)(*rng);
+  const Eigen::Vector2d jittered_ray = rayAt(ju, jv);
+  double depth = castRay(rects, jittered_ray.x(), jittered_ray.y()).depth;
+  if (c.noise == SensorNoise::kIclLike) {
+    if (depth > 0) {
+      double disparity = c.disparity_focal_baseline / depth + c.disparity_sigma_px * (*gauss)(*rng);
+      disparity = std::round(disparity / c.disparity_step_px) * c.disparity_step_px;
+      depth = disparity > 0 ? c.disparity_focal_baseline / disparity : 0.0;
+    }
+    if (depth > c.max_range_m || hit.incidence_cos < c.min_incidence_cos) depth = 0;
+    return depth;
+  }
+  depth = structuredLightDepth(depth, c.disparity_sigma_px * (*gauss)(*rng), c);
+  if (depth < c.sl_min_range_m || depth > c.sl_max_range_m) return 0;
+  if (hit.incidence_cos < c.sl_min_incidence_cos || reflectance < c.sl_dark_reflectance) return 0;
+  // Holes along depth edges: the projector's pattern is occluded there.
+  for (const auto& [du, dv] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+    const Eigen::Vector2d n = rayAt(double(u + du), double(v + dv));
+    const double neighbour = castRay(rects, n.x(), n.y()).depth;
+    if (!(neighbour > 0) || std::abs(neighbour - hit.depth) > c.sl_edge_jump * hit.depth) return 0;
+  }
+  return depth;
+}
+
+}  // namespace
 
 RenderedFrame SyntheticSequence::renderAt(const Eigen::Isometry3d& T, double timestamp,
                                           uint64_t noise_index) const {
   const Camera& cam = config_.camera;
   const auto rects = rectsInCamera(scene_, T);
   const Vector3d light_cam = T.linear().transpose() * scene_.light_dir;
-  const bool noisy = config_.noise == SensorNoise::kIclLike;
+  const bool noisy = config_.noise != SensorNoise::kNone;
+  const double gain = exposureGain(noise_index);
   std::mt19937_64 rng(config_.seed * 1000003ull + noise_index);
   std::normal_distribution<double> gauss(0.0, 1.0);
+  const auto ray_at = [this](double u, double v) { return rayAt(u, v); };
 
   RenderedFrame out;
   out.timestamp = timestamp;
@@ -227,14 +321,20 @@ RenderedFrame SyntheticSequence::renderAt(const Eigen::Isometry3d& T, double tim
 
   for (int v = 0; v < cam.height; ++v) {
     for (int u = 0; u < cam.width; ++u) {
-      const Hit hit = castRay(rects, (u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy);
+      const Eigen::Vector2d ray =
+          pixel_rays_.empty() ? Eigen::Vector2d((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy)
+                              : pixel_rays_[size_t(v) * size_t(cam.width) + size_t(u)];
+      const Hit hit = castRay(rects, ray.x(), ray.y());
       Vector3d rgb(0.05, 0.05, 0.05);
       if (hit.rect >= 0) {
         const Rect& r = scene_.rects[size_t(hit.rect)];
         const double shade = 0.35 + 0.65 * std::abs(rects[size_t(hit.rect)].n.dot(light_cam));
-        const double tex = textureValue(config_.texture, r.texture_seed, hit.s, hit.t);
+        const double tex =
+            patternValue(r.pattern, config_.texture, r.texture_seed, r.period, hit.s, hit.t);
         rgb = r.tint * (r.albedo * shade * tex);
       }
+      const double reflectance = rgb.mean();
+      if (gain != 1.0) rgb *= gain;
       for (int c = 0; c < 3; ++c) {
         double value = 255.0 * rgb[c] + (noisy ? config_.rgb_sigma * gauss(rng) : 0.0);
         out.rgb[(size_t(v) * cam.width + u) * 3 + c] =
@@ -242,24 +342,10 @@ RenderedFrame SyntheticSequence::renderAt(const Eigen::Isometry3d& T, double tim
       }
       const uint8_t* px = &out.rgb[(size_t(v) * cam.width + u) * 3];
       out.frame.gray.at(u, v) = uint8_t(std::lround(0.299 * px[0] + 0.587 * px[1] + 0.114 * px[2]));
-
-      double depth = hit.depth;
-      if (noisy && depth > 0) {
-        // Kinect-like: lateral jitter of where the pattern is sampled, then disparity noise and
-        // quantisation, then dropouts at grazing angles and beyond the range.
-        const double ju = u + config_.lateral_sigma_px * gauss(rng);
-        const double jv = v + config_.lateral_sigma_px * gauss(rng);
-        const Hit jittered = castRay(rects, (ju - cam.cx) / cam.fx, (jv - cam.cy) / cam.fy);
-        depth = jittered.depth;
-        if (depth > 0) {
-          double disparity =
-              config_.disparity_focal_baseline / depth + config_.disparity_sigma_px * gauss(rng);
-          disparity = std::round(disparity / config_.disparity_step_px) * config_.disparity_step_px;
-          depth = disparity > 0 ? config_.disparity_focal_baseline / disparity : 0.0;
-        }
-        if (depth > config_.max_range_m || hit.incidence_cos < config_.min_incidence_cos) depth = 0;
-      }
-      out.frame.depth.at(u, v) = float(depth);
+      out.frame.depth.at(u, v) =
+          float(noisy && hit.depth > 0
+                    ? sensorDepth(config_, ray_at, rects, hit, reflectance, u, v, &rng, &gauss)
+                    : hit.depth);
     }
   }
   return out;

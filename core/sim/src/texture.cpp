@@ -72,4 +72,61 @@ double textureValue(TextureRichness richness, uint32_t seed, double s, double t)
   return 1.0;
 }
 
+const char* toString(SurfacePattern p) {
+  switch (p) {
+    case SurfacePattern::kSequence:
+      return "sequence";
+    case SurfacePattern::kRich:
+      return "rich";
+    case SurfacePattern::kLow:
+      return "low";
+    case SurfacePattern::kNone:
+      return "none";
+    case SurfacePattern::kTiles:
+      return "tiles";
+    case SurfacePattern::kStripes:
+      return "stripes";
+    case SurfacePattern::kGrid:
+      return "grid";
+  }
+  return "?";
+}
+
+namespace {
+
+// Position within the period, in [0, 1).
+double phaseOf(double x, double period) {
+  const double p = x / period;
+  return p - std::floor(p);
+}
+
+}  // namespace
+
+double patternValue(SurfacePattern pattern, TextureRichness sequence_texture, uint32_t seed,
+                    double period, double s, double t) {
+  switch (pattern) {
+    case SurfacePattern::kSequence:
+      return textureValue(sequence_texture, seed, s, t);
+    case SurfacePattern::kRich:
+      return textureValue(TextureRichness::kRich, seed, s, t);
+    case SurfacePattern::kLow:
+      return textureValue(TextureRichness::kLow, seed, s, t);
+    case SurfacePattern::kNone:
+      return 1.0;
+    case SurfacePattern::kTiles: {
+      // Light and dark tiles of half the period in a checkerboard (so the pattern repeats every
+      // period), with a dark grout line 4 % of a tile wide.
+      const double tile = period / 2;
+      if (phaseOf(s, tile) < 0.04 || phaseOf(t, tile) < 0.04) return 0.35;
+      const int64_t parity = int64_t(std::floor(s / tile)) + int64_t(std::floor(t / tile));
+      return parity % 2 ? 0.8 : 1.15;
+    }
+    case SurfacePattern::kStripes:
+      return phaseOf(s, period) < 0.5 ? 0.65 : 1.2;
+    case SurfacePattern::kGrid:
+      return phaseOf(s, period) < 0.08 || phaseOf(t, period) < 0.08 ? 0.4 : 1.05;
+  }
+  return 1.0;
+}
+
 }  // namespace nidevo::synth

@@ -11,8 +11,9 @@ namespace nidevo {
 std::optional<Camera> cameraPreset(const std::string& name);
 std::string cameraPresetNames();
 
-// Text format: one "key value" pair per line (fx fy cx cy width height depth_scale), '#' comments.
-// Throws std::runtime_error naming the file and line on any problem.
+// Text format: one "key value" pair per line (fx fy cx cy width height depth_scale, optional
+// Brown-Conrady k1 k2 p1 p2 k3), '#' comments. Throws std::runtime_error naming the file and line
+// on any problem.
 Camera readCameraFile(const std::string& path);
 void writeCameraFile(const std::string& path, const Camera& camera);
 

@@ -4,6 +4,18 @@
 
 namespace nidevo {
 
+// Brown-Conrady lens distortion (OpenCV's and ROS "plumb_bob" order k1 k2 p1 p2 k3) on
+// normalised image coordinates; all zero: none.
+struct Distortion {
+  double k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;
+
+  bool none() const { return k1 == 0 && k2 == 0 && p1 == 0 && p2 == 0 && k3 == 0; }
+  // Ideal (pinhole) normalised coordinates to distorted ones.
+  Eigen::Vector2d distort(const Eigen::Vector2d& ideal) const;
+  // The inverse, by Newton's method (to 1e-12 within the image of real lenses).
+  Eigen::Vector2d undistort(const Eigen::Vector2d& distorted) const;
+};
+
 // Pinhole camera; fy may be negative (ICL-NUIM), nothing here assumes fy > 0.
 struct Camera {
   double fx = 481.2;
@@ -13,6 +25,8 @@ struct Camera {
   int width = 640;
   int height = 480;
   double depth_scale = 5000.0;  // raw units per metre for 16-bit depth
+  // The odometry does not undistort yet: it uses the pinhole model. The renderer applies this.
+  Distortion distortion;
 
   // Empty when valid, otherwise a message naming the bad field.
   [[nodiscard]] std::string validate() const;

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "nidevo/sim/texture.hpp"
+
 namespace nidevo::synth {
 
 struct Rect {
@@ -16,12 +18,16 @@ struct Rect {
   Eigen::Vector3d tint{1.0, 1.0, 1.0};  // RGB reflectance multiplier
   double albedo = 0.6;                  // mean grey reflectance
   uint32_t texture_seed = 0;
+  SurfacePattern pattern = SurfacePattern::kSequence;
+  double period = 0.3;  // metres, of the periodic patterns
 };
 
 // Where the camera goes: a closed loop of positions and look-at points (world frame, y up).
 struct Waypoint {
   Eigen::Vector3d position;
   Eigen::Vector3d look_at;
+  // Seconds to the next waypoint; 0: from the sequence's speed and the distances.
+  double duration_s = 0;
 };
 
 struct Scene {
@@ -31,8 +37,13 @@ struct Scene {
   Eigen::Vector3d light_dir{0.3, 0.8, 0.5};  // unit after construction
 };
 
-// office, corridor, corner, gap (a stretch that looks at a single wall).
+// office, corridor, corner, gap (a stretch that looks at a single wall), or random:SEED (a room
+// drawn by makeRandomScene).
 Scene makeScene(const std::string& name);
+// A room of random size and shape with furniture, clutter, posters and mixed surface patterns,
+// and a camera path that mixes walking, fast turns, turning on the spot and close looks at one
+// wall. Deterministic in the seed.
+Scene makeRandomScene(uint64_t seed);
 std::vector<std::string> sceneNames();
 
 // Builders used by makeScene, exposed for tests.

@@ -13,8 +13,11 @@
 
 namespace nidevo::synth {
 
-enum class SensorNoise { kNone, kIclLike };
-SensorNoise parseSensorNoise(const std::string& name);  // none, icl
+// kIclLike: ICL-NUIM-like disparity noise; kStructuredLight: a Kinect-like sensor, coarser
+// disparity steps (so depth steps grow with the square of depth), holes at depth edges and on
+// grazing or dark surfaces, a shorter range.
+enum class SensorNoise { kNone, kIclLike, kStructuredLight };
+SensorNoise parseSensorNoise(const std::string& name);  // none, icl, kinect
 const char* toString(SensorNoise n);
 
 struct SequenceConfig {
@@ -34,9 +37,25 @@ struct SequenceConfig {
   double disparity_step_px = 1.0 / 16.0;
   double lateral_sigma_px = 0.5;
   double rgb_sigma = 3.0;  // 8-bit units
+  // Structured-light sensor model (noise == kStructuredLight); disparity noise as above.
+  double sl_disparity_step_px = 0.125;
+  double sl_min_range_m = 0.5;
+  double sl_max_range_m = 4.5;
+  double sl_min_incidence_cos = 0.25;  // grazing surfaces give no depth
+  double sl_dark_reflectance = 0.08;   // nor do dark ones (too little of the pattern returns)
+  double sl_edge_jump = 0.04;          // relative depth jump to a neighbour that makes a hole
+  // Auto-exposure: jumps of the image gain by a factor of 1 +- [min, max], this many per second
+  // on average (0: none). The depth does not change.
+  double exposure_jumps_per_s = 0;
+  double exposure_jump_min = 0.1;
+  double exposure_jump_max = 0.3;
 
   [[nodiscard]] std::string validate() const;  // empty when valid, else names the bad field
 };
+
+// The structured-light model's depth for a true depth and a disparity noise (px): disparity
+// quantised to sl_disparity_step_px, so the depth step is about depth^2 * step / (f b).
+double structuredLightDepth(double depth, double disparity_noise_px, const SequenceConfig& config);
 
 // A rendered frame in full: colour for writing files, grey and depth for the odometry.
 struct RenderedFrame {
@@ -74,9 +93,14 @@ class SyntheticSequence {
 
  private:
   Eigen::Isometry3d poseAtTime(double t) const;
+  // Normalised ray (z = 1) through pixel (u, v), through the lens distortion if there is one.
+  Eigen::Vector2d rayAt(double u, double v) const;
+  double exposureGain(uint64_t frame) const;
   SequenceConfig config_;
   Scene scene_;
-  std::vector<double> segment_end_time_;  // cumulative time at the end of each path segment
+  std::vector<Eigen::Vector2d> pixel_rays_;  // rayAt of every pixel when distorted, else empty
+  std::vector<double> exposure_gain_;        // per frame
+  std::vector<double> segment_end_time_;     // cumulative time at the end of each path segment
 };
 
 }  // namespace nidevo::synth
