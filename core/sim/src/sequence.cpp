@@ -89,7 +89,33 @@ struct CamRect {
   Vector3d n, c, u, v;
   double hu, hv, num;
   int index;
+  // Bounds of the rectangle's image on the z = 1 plane (when it is wholly in front): a ray
+  // outside them cannot hit it, which spares the intersection for most rays in cluttered rooms.
+  double x_min = -std::numeric_limits<double>::infinity(), x_max = -x_min;
+  double y_min = x_min, y_max = x_max;
 };
+
+// Sets the image bounds; false when the rectangle lies wholly behind the depth limit of hits.
+bool boundImage(CamRect* r) {
+  double z_max = -std::numeric_limits<double>::infinity();
+  double z_min = -z_max;
+  Vector3d corners[4];
+  int k = 0;
+  for (double a : {-1.0, 1.0})
+    for (double b : {-1.0, 1.0}) corners[k++] = r->c + a * r->hu * r->u + b * r->hv * r->v;
+  for (const Vector3d& p : corners) z_min = std::min(z_min, p.z()), z_max = std::max(z_max, p.z());
+  if (z_max <= 1e-3) return false;
+  if (z_min <= 1e-3) return true;  // crosses the camera plane: no bounds
+  r->x_min = r->y_min = std::numeric_limits<double>::infinity();
+  r->x_max = r->y_max = -r->x_min;
+  for (const Vector3d& p : corners) {
+    r->x_min = std::min(r->x_min, p.x() / p.z()), r->x_max = std::max(r->x_max, p.x() / p.z());
+    r->y_min = std::min(r->y_min, p.y() / p.z()), r->y_max = std::max(r->y_max, p.y() / p.z());
+  }
+  const double margin = 1e-9 * (1 + std::abs(r->x_max - r->x_min) + std::abs(r->y_max - r->y_min));
+  r->x_min -= margin, r->x_max += margin, r->y_min -= margin, r->y_max += margin;
+  return true;
+}
 
 std::vector<CamRect> rectsInCamera(const Scene& scene, const Eigen::Isometry3d& T_world_cam) {
   const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
@@ -106,7 +132,7 @@ std::vector<CamRect> rectsInCamera(const Scene& scene, const Eigen::Isometry3d& 
     c.hv = r.half_v;
     c.num = c.n.dot(c.c);  // ray origin is the camera centre
     c.index = int(i);
-    out.push_back(c);
+    if (boundImage(&c)) out.push_back(c);
   }
   return out;
 }
@@ -116,12 +142,14 @@ struct Hit {
   int rect = -1;
   double s = 0, t = 0;  // in-plane coordinates
   double incidence_cos = 1;
+  Vector3d normal = Vector3d::Zero();  // of the rectangle hit, in the camera frame
 };
 
 Hit castRay(const std::vector<CamRect>& rects, double x, double y) {
   Hit best;
   double best_t = std::numeric_limits<double>::infinity();
   for (const CamRect& r : rects) {
+    if (x < r.x_min || x > r.x_max || y < r.y_min || y > r.y_max) continue;
     const double denom = r.n.x() * x + r.n.y() * y + r.n.z();
     if (std::abs(denom) < 1e-12) continue;
     const double t = r.num / denom;
@@ -135,6 +163,7 @@ Hit castRay(const std::vector<CamRect>& rects, double x, double y) {
     best.s = s;
     best.t = q;
     best.incidence_cos = std::abs(denom) / std::sqrt(x * x + y * y + 1);
+    best.normal = r.n;
   }
   return best;
 }
@@ -270,10 +299,10 @@ namespace {
 // Kinect-like: lateral jitter of where the pattern is sampled, then disparity noise and
 // quantisation, then dropouts (grazing angles, beyond the range; for the structured-light model
 // also too close, dark surfaces and depth edges).
-template <typename RayAt>
-double sensorDepth(const SequenceConfig& c, const RayAt& rayAt, const std::vector<CamRect>& rects,
-                   const Hit& hit, double reflectance, int u, int v, std::mt19937_64* rng,
-                   std::normal_distribution<double>* gauss) {
+template <typename RayAt, typename CleanDepthAt>
+double sensorDepth(const SequenceConfig& c, const RayAt& rayAt, const CleanDepthAt& clean_depth_at,
+                   const std::vector<CamRect>& rects, const Hit& hit, double reflectance, int u,
+                   int v, std::mt19937_64* rng, std::normal_distribution<double>* gauss) {
   const double ju = u + c.lateral_sigma_px * (*gauss)(*rng);
   const double jv = v + c.lateral_sigma_px * (*gauss)(*rng);
   const Eigen::Vector2d jittered_ray = rayAt(ju, jv);
@@ -292,8 +321,7 @@ double sensorDepth(const SequenceConfig& c, const RayAt& rayAt, const std::vecto
   if (hit.incidence_cos < c.sl_min_incidence_cos || reflectance < c.sl_dark_reflectance) return 0;
   // Holes along depth edges: the projector's pattern is occluded there.
   for (const auto& [du, dv] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-    const Eigen::Vector2d n = rayAt(double(u + du), double(v + dv));
-    const double neighbour = castRay(rects, n.x(), n.y()).depth;
+    const double neighbour = clean_depth_at(u + du, v + dv);
     if (!(neighbour > 0) || std::abs(neighbour - hit.depth) > c.sl_edge_jump * hit.depth) return 0;
   }
   return depth;
@@ -319,16 +347,30 @@ RenderedFrame SyntheticSequence::renderAt(const Eigen::Isometry3d& T, double tim
   out.frame.gray.resize(cam.width, cam.height);
   out.frame.depth.resize(cam.width, cam.height);
 
+  // Every pixel's clean hit first: the structured-light model looks at the neighbours' depths.
+  std::vector<Hit> hits(size_t(cam.width) * size_t(cam.height));
   for (int v = 0; v < cam.height; ++v) {
     for (int u = 0; u < cam.width; ++u) {
       const Eigen::Vector2d ray =
           pixel_rays_.empty() ? Eigen::Vector2d((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy)
                               : pixel_rays_[size_t(v) * size_t(cam.width) + size_t(u)];
-      const Hit hit = castRay(rects, ray.x(), ray.y());
+      hits[size_t(v) * size_t(cam.width) + size_t(u)] = castRay(rects, ray.x(), ray.y());
+    }
+  }
+  const auto clean_depth_at = [&](int u, int v) {
+    if (u >= 0 && v >= 0 && u < cam.width && v < cam.height)
+      return hits[size_t(v) * size_t(cam.width) + size_t(u)].depth;
+    const Eigen::Vector2d ray = rayAt(u, v);
+    return castRay(rects, ray.x(), ray.y()).depth;
+  };
+
+  for (int v = 0; v < cam.height; ++v) {
+    for (int u = 0; u < cam.width; ++u) {
+      const Hit& hit = hits[size_t(v) * size_t(cam.width) + size_t(u)];
       Vector3d rgb(0.05, 0.05, 0.05);
       if (hit.rect >= 0) {
         const Rect& r = scene_.rects[size_t(hit.rect)];
-        const double shade = 0.35 + 0.65 * std::abs(rects[size_t(hit.rect)].n.dot(light_cam));
+        const double shade = 0.35 + 0.65 * std::abs(hit.normal.dot(light_cam));
         const double tex =
             patternValue(r.pattern, config_.texture, r.texture_seed, r.period, hit.s, hit.t);
         rgb = r.tint * (r.albedo * shade * tex);
@@ -343,9 +385,9 @@ RenderedFrame SyntheticSequence::renderAt(const Eigen::Isometry3d& T, double tim
       const uint8_t* px = &out.rgb[(size_t(v) * cam.width + u) * 3];
       out.frame.gray.at(u, v) = uint8_t(std::lround(0.299 * px[0] + 0.587 * px[1] + 0.114 * px[2]));
       out.frame.depth.at(u, v) =
-          float(noisy && hit.depth > 0
-                    ? sensorDepth(config_, ray_at, rects, hit, reflectance, u, v, &rng, &gauss)
-                    : hit.depth);
+          float(noisy && hit.depth > 0 ? sensorDepth(config_, ray_at, clean_depth_at, rects, hit,
+                                                     reflectance, u, v, &rng, &gauss)
+                                       : hit.depth);
     }
   }
   return out;
