@@ -152,11 +152,8 @@ RotationSolution bestPair(const std::vector<PlanePair>& planes, double parallel_
 std::optional<RotationSolution> solveRotation(const std::vector<PlanePair>& planes,
                                               RotationMethod method, double parallel_dot,
                                               double unchanged_tolerance, double max_residual) {
-  bool any_pair = false;
-  for (size_t i = 0; i < planes.size() && !any_pair; ++i)
-    for (size_t j = i + 1; j < planes.size() && !any_pair; ++j)
-      any_pair = nonParallel(planes[i], planes[j], parallel_dot);
-  if (!any_pair) return std::nullopt;
+  // All planes (max_modes is at most 64, so every one has a bit).
+  if (!hasNonParallelPair(planes, ~uint64_t(0), parallel_dot)) return std::nullopt;
   if (method == RotationMethod::kClosedForm)
     return closedFormDroppingOutliers(planes, parallel_dot, max_residual);
   return bestPair(planes, parallel_dot, unchanged_tolerance);

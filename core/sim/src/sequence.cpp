@@ -351,9 +351,9 @@ RenderedFrame SyntheticSequence::renderAt(const Eigen::Isometry3d& T, double tim
   std::vector<Hit> hits(size_t(cam.width) * size_t(cam.height));
   for (int v = 0; v < cam.height; ++v) {
     for (int u = 0; u < cam.width; ++u) {
-      const Eigen::Vector2d ray =
-          pixel_rays_.empty() ? Eigen::Vector2d((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy)
-                              : pixel_rays_[size_t(v) * size_t(cam.width) + size_t(u)];
+      const Eigen::Vector2d ray = pixel_rays_.empty()
+                                      ? rayAt(u, v)
+                                      : pixel_rays_[size_t(v) * size_t(cam.width) + size_t(u)];
       hits[size_t(v) * size_t(cam.width) + size_t(u)] = castRay(rects, ray.x(), ray.y());
     }
   }
