@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <stdexcept>
 
 #include "absl/flags/flag.h"
 #include "nidevo/cli/cli.hpp"
@@ -17,6 +18,9 @@
 ABSL_FLAG(int, threads, 1, "1: all stages on one thread; 3: the three-stage pipeline");
 ABSL_FLAG(std::string, out, "", "Write the estimated trajectory (TUM format) here");
 ABSL_FLAG(std::string, plot, "", "Write a PNG plot against ground truth here");
+ABSL_FLAG(std::string, frames_csv, "",
+          "Write one CSV row per frame here: state, reason, rotation source, PSR, the pose "
+          "check's figures and, with ground truth, the frame-to-frame error");
 
 namespace {
 
@@ -54,6 +58,31 @@ nidevo::Trajectory printSummary(const std::vector<nidevo::PoseEstimate>& poses, 
   return estimate;
 }
 
+// One row per frame; the error columns are empty without ground truth or for unjudged frames.
+void writeFramesCsv(const std::string& path, const std::vector<nidevo::PoseEstimate>& poses,
+                    const std::vector<nidevo::FrameError>& errors) {
+  FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw std::runtime_error("cannot write " + path);
+  std::fprintf(f,
+               "frame,timestamp,state,reason,rotation_source,planes,psr,hypothesis,"
+               "inlier_fraction,overlap_fraction,residual_rms_m,ncc,constrained,"
+               "rotation_error_deg,translation_error_m\n");
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const auto& p = poses[i];
+    const auto& v = p.verification;
+    std::fprintf(f, "%llu,%.6f,%s,\"%s\",%s,%d,%.2f,%s,%.4f,%.4f,%.5f,%.4f,%d,",
+                 (unsigned long long)p.frame_index, p.timestamp, nidevo::toString(p.state),
+                 p.reason, nidevo::toString(p.rotation_source), p.planes_used, p.psr, v.hypothesis,
+                 v.inlier_fraction, v.overlap_fraction, v.residual_rms_m, v.ncc,
+                 v.constrained_directions);
+    if (i < errors.size() && errors[i].judged)
+      std::fprintf(f, "%.4f,%.5f\n", errors[i].rotation_deg, errors[i].translation_m);
+    else
+      std::fprintf(f, ",\n");
+  }
+  std::fclose(f);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -89,6 +118,14 @@ int main(int argc, char** argv) {
     if (!out.empty()) {
       nidevo::writeTumTrajectory(out, estimate);
       std::printf("trajectory written to %s\n", out.c_str());
+    }
+    const std::string frames_csv = absl::GetFlag(FLAGS_frames_csv);
+    if (!frames_csv.empty()) {
+      writeFramesCsv(frames_csv, poses,
+                     seq.ground_truth.empty()
+                         ? std::vector<nidevo::FrameError>{}
+                         : nidevo::frameToFrameErrors(estimate, seq.ground_truth, 0.005));
+      std::printf("per-frame figures written to %s\n", frames_csv.c_str());
     }
     if (!seq.ground_truth.empty()) {
       std::printf("\n");

@@ -41,6 +41,24 @@ ABSL_FLAG(int, rotation_keyframe_interval, kDefaults.rotation_keyframe_interval,
 ABSL_FLAG(double, psr_bound, kDefaults.psr_bound,
           "Translation keyframe renewed at or below this PSR (paper: 50)");
 
+ABSL_FLAG(int, align_iterations, kDefaults.align_iterations,
+          "Pose check: refinement steps on the constrained directions (0: the method's pose is "
+          "only checked)");
+ABSL_FLAG(double, align_min_eigenvalue, kDefaults.align_min_eigenvalue,
+          "Directions the geometry constrains less than this keep the hypothesis' value");
+ABSL_FLAG(int, verify_sample_step, kDefaults.verify_sample_step,
+          "Check every n-th smooth normal-map pixel of the reference");
+ABSL_FLAG(double, verify_min_inliers, kDefaults.verify_min_inliers,
+          "Fraction of the checked points that must agree for OK");
+ABSL_FLAG(double, verify_max_rms, kDefaults.verify_max_rms_m,
+          "Largest point-to-plane RMS (m) for OK");
+ABSL_FLAG(double, verify_min_ncc, kDefaults.verify_min_ncc,
+          "Smallest grey-value correlation for OK, where the reference has texture");
+ABSL_FLAG(double, reference_min_overlap, kDefaults.reference_min_overlap,
+          "Renew the reference frame when less of it is in view");
+ABSL_FLAG(int, reference_max_frames, kDefaults.reference_max_frames,
+          "Renew the reference frame at least every this many frames");
+
 namespace nidevo::cli {
 
 OdometryConfig odometryConfigFromFlags() {
@@ -62,6 +80,14 @@ OdometryConfig odometryConfigFromFlags() {
   c.subpixel_peak = absl::GetFlag(FLAGS_subpixel);
   c.rotation_keyframe_interval = absl::GetFlag(FLAGS_rotation_keyframe_interval);
   c.psr_bound = float(absl::GetFlag(FLAGS_psr_bound));
+  c.align_iterations = absl::GetFlag(FLAGS_align_iterations);
+  c.align_min_eigenvalue = float(absl::GetFlag(FLAGS_align_min_eigenvalue));
+  c.verify_sample_step = absl::GetFlag(FLAGS_verify_sample_step);
+  c.verify_min_inliers = float(absl::GetFlag(FLAGS_verify_min_inliers));
+  c.verify_max_rms_m = float(absl::GetFlag(FLAGS_verify_max_rms));
+  c.verify_min_ncc = float(absl::GetFlag(FLAGS_verify_min_ncc));
+  c.reference_min_overlap = float(absl::GetFlag(FLAGS_reference_min_overlap));
+  c.reference_max_frames = absl::GetFlag(FLAGS_reference_max_frames);
   if (auto e = c.validate(); !e.empty()) throw std::invalid_argument(e);
   return c;
 }

@@ -104,24 +104,35 @@ const StampedPose* nearestPose(const Trajectory& reference, double t, double max
 
 }  // namespace
 
-SilentFailures countSilentFailures(const Trajectory& estimate,
-                                   const std::vector<bool>& reported_good,
-                                   const Trajectory& reference, double max_rotation_deg,
-                                   double max_translation_m, double max_difference) {
-  if (reported_good.size() != estimate.size())
-    throw std::invalid_argument("countSilentFailures: one good flag per estimated pose needed");
-  SilentFailures out;
+std::vector<FrameError> frameToFrameErrors(const Trajectory& estimate, const Trajectory& reference,
+                                           double max_difference) {
+  std::vector<FrameError> out(estimate.size());
   for (size_t i = 1; i < estimate.size(); ++i) {
-    if (!reported_good[i]) continue;
     const StampedPose* r0 = nearestPose(reference, estimate[i - 1].timestamp, max_difference);
     const StampedPose* r1 = nearestPose(reference, estimate[i].timestamp, max_difference);
     if (!r0 || !r1) continue;
     const Eigen::Isometry3d ref_rel = r0->pose().inverse() * r1->pose();
     const Eigen::Isometry3d est_rel = estimate[i - 1].pose().inverse() * estimate[i].pose();
     const Eigen::Isometry3d err = ref_rel.inverse() * est_rel;
+    out[i].judged = true;
+    out[i].rotation_deg = Eigen::AngleAxisd(err.rotation()).angle() * 180.0 / M_PI;
+    out[i].translation_m = err.translation().norm();
+  }
+  return out;
+}
+
+SilentFailures countSilentFailures(const Trajectory& estimate,
+                                   const std::vector<bool>& reported_good,
+                                   const Trajectory& reference, double max_rotation_deg,
+                                   double max_translation_m, double max_difference) {
+  if (reported_good.size() != estimate.size())
+    throw std::invalid_argument("countSilentFailures: one good flag per estimated pose needed");
+  const std::vector<FrameError> errors = frameToFrameErrors(estimate, reference, max_difference);
+  SilentFailures out;
+  for (size_t i = 0; i < estimate.size(); ++i) {
+    if (!reported_good[i] || !errors[i].judged) continue;
     ++out.judged;
-    const double angle_deg = Eigen::AngleAxisd(err.rotation()).angle() * 180.0 / M_PI;
-    if (angle_deg > max_rotation_deg || err.translation().norm() > max_translation_m) {
+    if (errors[i].rotation_deg > max_rotation_deg || errors[i].translation_m > max_translation_m) {
       ++out.count;
       out.timestamps.push_back(estimate[i].timestamp);
     }

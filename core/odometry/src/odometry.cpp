@@ -7,6 +7,7 @@
 
 #include "nidevo/odometry/motion_model.hpp"
 #include "nidevo/odometry/rotation_solver.hpp"
+#include "verification_state.hpp"
 
 namespace nidevo {
 
@@ -79,7 +80,6 @@ struct Odometry::TranslationState {
   double resolution = 0;
   Isometry3d T_world_key = Isometry3d::Identity();
   MotionModel motion;
-  int degraded_frames = 0;
   KernelCrossCorrelator kcc;
   OrthoProjector projector;
   DepthShiftEstimator depth_shift;
@@ -119,6 +119,7 @@ Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
   rot_ = std::make_unique<RotationState>(
       config_, (camera_.width / config_.normal_stride) * (camera_.height / config_.normal_stride));
   trans_ = std::make_unique<TranslationState>(config_);
+  verify_ = std::make_unique<VerificationState>(config_, camera_);
 }
 
 Odometry::~Odometry() = default;
@@ -137,6 +138,14 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
   s->normal_builder.compute(frame.depth, camera_, config_.normal_stride, config_.cell_size,
                             config_.depth_discontinuity, config_.min_depth_m, config_.max_depth_m,
                             config_.crease_dot, &s->normals);
+  const int map_stride = config_.normal_stride;
+  s->map_intensity.resize(size_t(s->normals.width) * size_t(s->normals.height));
+  for (int v = 0; v < s->normals.height; ++v) {
+    const uint8_t* gray_row = &frame.gray.data[size_t(v * map_stride) * size_t(camera_.width)];
+    float* dst = &s->map_intensity[size_t(v) * size_t(s->normals.width)];
+    for (int u = 0; u < s->normals.width; ++u)
+      dst[u] = float(gray_row[u * map_stride]) * (1.f / 255.f);
+  }
   const int stride = config_.projection_stride;
   const int W = camera_.width / stride, H = camera_.height / stride;
   for (auto* plane : {&s->cloud_x, &s->cloud_y, &s->cloud_z}) plane->resize(size_t(W) * size_t(H));
@@ -313,9 +322,9 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
     translation_problem = matchTranslationKeyframe(*s, T_pred, &T, &out);
   }
   out.projection_resolution = t.resolution;
-  decideTrackingState(*s, translation_problem, &out);
-  out.T_world_cam = T;
-  t.motion.update(T, out.state == TrackingState::kOk);
+  const char* method_problem = methodProblem(*s, translation_problem);
+  t.motion.update(T, method_problem == nullptr);
+  verifyPose(*s, T, method_problem, s->depth_ok && translation_problem == nullptr, &out);
   s->times.translation_s = secondsSince(t0);
   out.times = s->times;
   return out;
@@ -360,28 +369,12 @@ const char* Odometry::matchTranslationKeyframe(const FrameState& s, const Isomet
   return problem;
 }
 
-// OK when both stages used the method; DEGRADED when either fell back to the prediction; LOST
-// without depth, or after max_degraded_frames DEGRADED frames in a row.
-void Odometry::decideTrackingState(const FrameState& s, const char* translation_problem,
-                                   PoseEstimate* out) {
-  TranslationState& t = *trans_;
-  const char* rotation_problem = nullptr;
-  if (s.depth_ok && s.rotation_source == RotationSource::kOnePlane) {
-    rotation_problem = "one plane; rotation partly predicted";
-  } else if (s.depth_ok && s.rotation_source == RotationSource::kPrediction) {
-    rotation_problem = "fewer than two non-parallel planes; rotation predicted";
-  }
-  if (!s.depth_ok) {
-    out->state = TrackingState::kLost;
-    out->reason = translation_problem;
-    ++t.degraded_frames;
-  } else if (translation_problem || rotation_problem) {
-    out->state = ++t.degraded_frames > config_.max_degraded_frames ? TrackingState::kLost
-                                                                   : TrackingState::kDegraded;
-    out->reason = rotation_problem ? rotation_problem : translation_problem;
-  } else {
-    t.degraded_frames = 0;
-  }
+const char* Odometry::methodProblem(const FrameState& s, const char* translation_problem) const {
+  if (!s.depth_ok) return translation_problem;
+  if (s.rotation_source == RotationSource::kOnePlane) return "one plane; rotation partly predicted";
+  if (s.rotation_source == RotationSource::kPrediction)
+    return "fewer than two non-parallel planes; rotation predicted";
+  return translation_problem;
 }
 
 PoseEstimate Odometry::track(const RgbdFrame& frame) {

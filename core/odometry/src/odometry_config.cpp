@@ -63,6 +63,21 @@ std::string OdometryConfig::validate() const {
   if (!in(depth_max_slope, 0, 100)) return "depth_max_slope must be in [0, 100]";
   if (depth_sample_step < 1 || depth_sample_step > 8) return "depth_sample_step must be in 1..8";
   if (depth_iterations < 1 || depth_iterations > 20) return "depth_iterations must be in 1..20";
+  if (verify_sample_step < 1 || verify_sample_step > 32)
+    return "verify_sample_step must be in 1..32";
+  if (align_iterations < 0 || align_iterations > 50) return "align_iterations must be in 0..50";
+  if (!in(align_max_distance_m, 1e-4, 10)) return "align_max_distance_m must be in [1e-4, 10]";
+  if (!in(align_inlier_m, 1e-5, 10)) return "align_inlier_m must be in [1e-5, 10]";
+  if (!in(align_inlier_per_m, 0, 1)) return "align_inlier_per_m must be in [0, 1]";
+  if (!in(align_normal_dot, -1, 1)) return "align_normal_dot must be in [-1, 1]";
+  if (!in(align_min_eigenvalue, 0, 100)) return "align_min_eigenvalue must be in [0, 100]";
+  if (!in(verify_min_inliers, 0, 1)) return "verify_min_inliers must be in [0, 1]";
+  if (!in(verify_min_overlap, 0, 1)) return "verify_min_overlap must be in [0, 1]";
+  if (!in(verify_max_rms_m, 0, 10)) return "verify_max_rms_m must be in [0, 10]";
+  if (!in(verify_min_ncc, -1, 1)) return "verify_min_ncc must be in [-1, 1]";
+  if (!in(verify_texture_std, 0, 1)) return "verify_texture_std must be in [0, 1]";
+  if (!in(reference_min_overlap, 0, 1)) return "reference_min_overlap must be in [0, 1]";
+  if (reference_max_frames < 1) return "reference_max_frames must be at least 1";
   if (!in(min_valid_depth_fraction, 0, 1)) return "min_valid_depth_fraction must be in [0, 1]";
   if (max_degraded_frames < 1) return "max_degraded_frames must be at least 1";
   return {};
@@ -77,6 +92,17 @@ PlaneTrackingParams planeTrackingParams(const OdometryConfig& c, int normal_map_
   p.max_modes = c.max_modes;
   p.estimator = c.plane_normal;
   p.fit_cone_dot = c.plane_fit_cone_dot;
+  return p;
+}
+
+AlignmentParams alignmentParams(const OdometryConfig& c) {
+  AlignmentParams p;
+  p.iterations = c.align_iterations;
+  p.max_distance_m = c.align_max_distance_m;
+  p.inlier_m = c.align_inlier_m;
+  p.inlier_per_m = c.align_inlier_per_m;
+  p.normal_dot = c.align_normal_dot;
+  p.min_eigenvalue = c.align_min_eigenvalue;
   return p;
 }
 

@@ -41,6 +41,16 @@ struct RpeResult {
 // Relative error between frames i and i + delta (evo's RPE with delta in frames).
 RpeResult computeRpe(const MatchedTrajectories& matched, int delta = 1);
 
+// Frame i's motion since frame i-1 against the reference's; frame 0, and frames without a
+// reference pose within max_difference seconds (theirs or the previous frame's), are not judged.
+struct FrameError {
+  bool judged = false;
+  double rotation_deg = 0;
+  double translation_m = 0;
+};
+std::vector<FrameError> frameToFrameErrors(const Trajectory& estimate, const Trajectory& reference,
+                                           double max_difference = 0.01);
+
 // Frames a method reported as good whose motion since the previous frame is wrong by more than
 // the bounds against the reference: the failures nobody was told about. Frame i is judged when
 // frames i-1 and i both match a reference pose within max_difference seconds.

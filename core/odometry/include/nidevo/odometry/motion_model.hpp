@@ -13,6 +13,8 @@ class MotionModel {
   bool empty() const { return !has_prev_; }
   // The pose one frame after the last update (identity before any update).
   Eigen::Isometry3d predict() const;
+  // The last pose given to update() (identity before any update).
+  const Eigen::Isometry3d& last() const { return prev_; }
   // measured: the pose came from the method, not from predict().
   void update(const Eigen::Isometry3d& pose, bool measured);
   void reset() { *this = MotionModel(decay_); }

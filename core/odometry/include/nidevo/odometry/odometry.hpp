@@ -33,7 +33,20 @@ const char* toString(RotationSource s);
 struct StageTimes {
   double normals_s = 0;
   double rotation_s = 0;
-  double translation_s = 0;
+  double translation_s = 0;  // includes the verification
+};
+
+// The check of the full pose against the reference frame (depth_alignment.hpp).
+struct PoseVerification {
+  const char* hypothesis = "";  // "method", "prediction" or "" (no check: first frame, no depth)
+  double inlier_fraction = 0;
+  double overlap_fraction = 0;
+  double residual_rms_m = 0;
+  double ncc = 0;
+  int constrained_directions = 0;  // of 6; the others kept the hypothesis' value
+  bool free_rotation = false;      // a direction left free is (mostly) a rotation
+  bool free_translation = false;   // ... a translation
+  bool passed = false;
 };
 
 struct PoseEstimate {
@@ -49,6 +62,7 @@ struct PoseEstimate {
   bool translation_keyframe = false;
   int overlap_pixels = 0;
   double projection_resolution = 0;  // m/px of the translation keyframe
+  PoseVerification verification;
   StageTimes times;
 };
 
@@ -61,7 +75,8 @@ struct FrameState {
   NormalMapBuilder normal_builder;
   // Projection cloud (camera frame), one plane per coordinate; z = 0 where depth is missing.
   std::vector<float> cloud_x, cloud_y, cloud_z;
-  std::vector<float> intensity;  // [0, 1]
+  std::vector<float> intensity;      // [0, 1]
+  std::vector<float> map_intensity;  // [0, 1], one per normal-map pixel
   // Stage 2 output.
   Eigen::Matrix3d R_world_cam = Eigen::Matrix3d::Identity();
   RotationSource rotation_source = RotationSource::kInitial;
@@ -94,14 +109,21 @@ class Odometry {
  private:
   struct RotationState;
   struct TranslationState;
+  struct VerificationState;
   void matchRotationKeyframe(const Eigen::Matrix3d& R_pred, FrameState* state);
   void makeRotationKeyframe(const FrameState& state);
   void makeTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_world_cam);
   // Returns why the translation was predicted instead, or nullptr; sets *T_world_cam.
   const char* matchTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_pred,
                                        Eigen::Isometry3d* T_world_cam, PoseEstimate* out);
-  void decideTrackingState(const FrameState& state, const char* translation_problem,
-                           PoseEstimate* out);
+  // Why the method's own estimate is weak (a stage fell back to the prediction), or nullptr.
+  const char* methodProblem(const FrameState& state, const char* translation_problem) const;
+  // Checks (and refines) the method's pose against the reference frame, tries the prediction
+  // when it fails, and decides the state; sets out->T_world_cam.
+  void verifyPose(const FrameState& state, const Eigen::Isometry3d& T_method,
+                  const char* method_problem, bool translation_measured, PoseEstimate* out);
+  void renewReference(const FrameState& state, const Eigen::Isometry3d& T_out,
+                      const Eigen::Isometry3d& T_method);
   CloudView projectionCloud(const FrameState& state) const;
   void projectForCorrelation(const CloudView& cloud, const Eigen::Matrix3f& R,
                              OrthoImage* image) const;
@@ -112,6 +134,7 @@ class Odometry {
   OdometryConfig config_;
   std::unique_ptr<RotationState> rot_;
   std::unique_ptr<TranslationState> trans_;
+  std::unique_ptr<VerificationState> verify_;
   std::vector<float> point_weight_;   // per projection point, fades contrast at the border
   std::vector<float> ray_x_, ray_y_;  // projection cloud: (u - cx) / fx per column, per row
   FrameState own_state_;

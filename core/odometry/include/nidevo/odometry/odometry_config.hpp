@@ -3,6 +3,7 @@
 // except where the README's ablation table measured a gain (marked "paper:" below).
 #include <string>
 
+#include "nidevo/odometry/depth_alignment.hpp"
 #include "nidevo/odometry/depth_shift.hpp"
 #include "nidevo/odometry/plane_tracking.hpp"
 
@@ -67,6 +68,23 @@ struct OdometryConfig {
   int depth_sample_step = 2;     // Eq. 18 over every n-th cell in u and v
   float depth_max_slope = 1.5f;  // Eq. 18 skips cells of steeper surfaces (0: off)
 
+  // Verification (depth_alignment.hpp): the full pose, checked against a reference frame (the
+  // last frame that renewed it) and refined along the directions the geometry fixes.
+  int verify_sample_step = 4;          // every n-th smooth normal-map pixel of the reference
+  int align_iterations = 4;            // 0: the method's pose is checked, never changed
+  float align_max_distance_m = 0.08f;  // association gate
+  float align_inlier_m = 0.02f;  // inlier residual, plus align_inlier_per_m per metre of depth
+  float align_inlier_per_m = 0.01f;
+  float align_normal_dot = 0.8f;
+  float align_min_eigenvalue = 0.004f;  // weaker directions keep the hypothesis' value
+  float verify_min_inliers = 0.7f;      // of the associated points
+  float verify_min_overlap = 0.3f;      // of the sample landing on the current surface
+  float verify_max_rms_m = 0.03f;
+  float verify_min_ncc = 0.3f;         // grey-value agreement, where the reference has texture
+  float verify_texture_std = 0.03f;    // reference grey std below which the NCC is not asked
+  float reference_min_overlap = 0.8f;  // renew the reference when less of it is seen
+  int reference_max_frames = 15;
+
   // Tracking state.
   float min_valid_depth_fraction = 0.05f;
   int max_degraded_frames = 30;  // consecutive DEGRADED frames before LOST
@@ -80,5 +98,6 @@ struct OdometryConfig {
 PlaneTrackingParams planeTrackingParams(const OdometryConfig& config, int normal_map_pixels);
 // The resolution is the translation keyframe's, set with each new keyframe (0 until then).
 DepthShiftParams depthShiftParams(const OdometryConfig& config);
+AlignmentParams alignmentParams(const OdometryConfig& config);
 
 }  // namespace nidevo

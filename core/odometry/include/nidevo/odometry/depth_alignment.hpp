@@ -1,0 +1,78 @@
+#pragma once
+// Verification (and a small refinement) of a full pose against a reference frame: a sparse
+// sample of the reference's surface points, warped into the current frame with the pose
+// hypothesis, must land on the current surface (point-to-plane residual, normal agreement) and
+// on the same grey values. The refinement is Gauss-Newton on those point-to-plane residuals with
+// projective association, updating only the directions the geometry constrains: along the others
+// (a corridor's axis, a single plane's in-plane motion) the hypothesis is kept as it is.
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "nidevo/odometry/camera.hpp"
+#include "nidevo/odometry/normal_map.hpp"
+
+namespace nidevo {
+
+// Reference surface points, their normals and grey values, in the reference camera's frame.
+struct SurfaceSample {
+  std::vector<Eigen::Vector3f> point;
+  std::vector<Eigen::Vector3f> normal;
+  std::vector<float> intensity;
+  size_t size() const { return point.size(); }
+  void clear();
+};
+
+// Every `step`-th smooth pixel of the map, in u and v. intensity: one value per map pixel.
+void sampleSurface(const NormalMap& map, const std::vector<float>& intensity, int step,
+                   SurfaceSample* out);
+
+struct AlignmentParams {
+  int iterations = 4;            // Gauss-Newton steps; 0: evaluate the hypothesis only
+  float max_distance_m = 0.08f;  // association gate on the point-to-plane residual
+  float inlier_m = 0.02f;        // a residual below this (plus inlier_per_m * depth) is an inlier
+  float inlier_per_m = 0.01f;    // depth noise grows with range
+  float normal_dot = 0.8f;       // warped reference normal and current normal at least this aligned
+  float min_eigenvalue = 0.004f;  // normalised Hessian eigenvalue below which a direction is left
+                                  // to the hypothesis
+};
+
+struct AlignmentResult {
+  Eigen::Isometry3d T_ref_cur = Eigen::Isometry3d::Identity();  // the (refined) hypothesis
+  int sampled = 0;                                              // reference points tried
+  int associated = 0;  // landed inside the current image on a surface with a normal
+  int inliers = 0;     // ... and agreed within the residual and normal gates
+  double rms_m = 0;    // point-to-plane RMS over the inliers
+  double ncc = 0;      // normalised cross-correlation of the inliers' grey values, [-1, 1]
+  double ref_intensity_std = 0;  // of the inliers' reference grey values: is there texture?
+  int constrained = 0;           // directions (of 6) the geometry fixed in the last step
+  // Whether a direction left free is mostly a rotation, mostly a translation.
+  bool free_rotation = false;
+  bool free_translation = false;
+  // inliers / associated, and associated / sampled (0 when nothing was sampled).
+  double inlierFraction() const { return associated ? double(inliers) / associated : 0.0; }
+  double overlapFraction() const { return sampled ? double(associated) / sampled : 0.0; }
+};
+
+// Owns scratch so that repeated calls do not allocate.
+class DepthAligner {
+ public:
+  // map_camera: the camera of the current normal map (already subsampled), with distortion.
+  // T_ref_cur: the hypothesis, the current camera's pose in the reference camera's frame.
+  AlignmentResult align(const SurfaceSample& ref, const NormalMap& cur,
+                        const std::vector<float>& cur_intensity, const Camera& map_camera,
+                        const Eigen::Isometry3d& T_ref_cur, const AlignmentParams& params);
+
+ private:
+  // One pass over the sample at T_cur_ref: fills the normal equations (when asked) and the
+  // result's counts, RMS and NCC.
+  void evaluate(const SurfaceSample& ref, const NormalMap& cur,
+                const std::vector<float>& cur_intensity, const Camera& map_camera,
+                const Eigen::Isometry3d& T_cur_ref, const AlignmentParams& params,
+                double depth_scale, bool build_system, AlignmentResult* result);
+
+  Eigen::Matrix<double, 6, 6> H_;
+  Eigen::Matrix<double, 6, 1> b_;
+  int system_points_ = 0;
+};
+
+}  // namespace nidevo

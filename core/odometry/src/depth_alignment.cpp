@@ -1,0 +1,159 @@
+#include "nidevo/odometry/depth_alignment.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace nidevo {
+
+using Eigen::Isometry3d;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+void SurfaceSample::clear() {
+  point.clear();
+  normal.clear();
+  intensity.clear();
+}
+
+void sampleSurface(const NormalMap& map, const std::vector<float>& intensity, int step,
+                   SurfaceSample* out) {
+  out->clear();
+  for (int v = step / 2; v < map.height; v += step) {
+    for (int u = step / 2; u < map.width; u += step) {
+      const size_t i = size_t(v) * size_t(map.width) + size_t(u);
+      if (!map.smooth[i]) continue;
+      out->point.push_back(map.points[i]);
+      out->normal.push_back(map.normal[i]);
+      out->intensity.push_back(intensity[i]);
+    }
+  }
+}
+
+namespace {
+
+// Pixel of a camera-frame point in the (distorted) image; false behind the camera.
+bool projectToPixel(const Camera& cam, const Vector3d& p, double* u, double* v) {
+  if (p.z() <= 1e-6) return false;
+  Eigen::Vector2d xy(p.x() / p.z(), p.y() / p.z());
+  if (!cam.distortion.none()) xy = cam.distortion.distort(xy);
+  *u = cam.fx * xy.x() + cam.cx;
+  *v = cam.fy * xy.y() + cam.cy;
+  return true;
+}
+
+// Left-multiplied increment: rotation vector omega, translation v.
+Isometry3d increment(const Eigen::Matrix<double, 6, 1>& xi) {
+  Isometry3d T = Isometry3d::Identity();
+  const Vector3d omega = xi.head<3>();
+  const double angle = omega.norm();
+  if (angle > 0) T.linear() = Eigen::AngleAxisd(angle, omega / angle).toRotationMatrix();
+  T.translation() = xi.tail<3>();
+  return T;
+}
+
+}  // namespace
+
+void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
+                            const std::vector<float>& cur_intensity, const Camera& cam,
+                            const Isometry3d& T_cur_ref, const AlignmentParams& prm,
+                            double depth_scale, bool build_system, AlignmentResult* res) {
+  const Matrix3d R = T_cur_ref.linear();
+  const Vector3d t = T_cur_ref.translation();
+  if (build_system) {
+    H_.setZero();
+    b_.setZero();
+    system_points_ = 0;
+  }
+  int associated = 0, inliers = 0;
+  double sq = 0, sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+  const double gate = prm.max_distance_m;
+  for (size_t i = 0; i < ref.size(); ++i) {
+    const Vector3d p = R * ref.point[i].cast<double>() + t;
+    double uf, vf;
+    if (!projectToPixel(cam, p, &uf, &vf)) continue;
+    const int u = int(std::lround(uf)), v = int(std::lround(vf));
+    if (u < 0 || v < 0 || u >= cur.width || v >= cur.height) continue;
+    const size_t j = size_t(v) * size_t(cur.width) + size_t(u);
+    if (!cur.valid[j]) continue;
+    ++associated;
+    const Vector3d n = cur.normal[j].cast<double>();
+    const Vector3d q = cur.points[j].cast<double>();
+    const double r = n.dot(q - p);
+    if (std::abs(r) > gate || n.dot(R * ref.normal[i].cast<double>()) < prm.normal_dot) continue;
+    if (std::abs(r) <= prm.inlier_m + prm.inlier_per_m * p.z()) {
+      ++inliers;
+      sq += r * r;
+      const double a = ref.intensity[i], b = cur_intensity[j];
+      sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
+    }
+    if (!build_system) continue;
+    // Huber weight (scale: the inlier threshold), so that the gate's outliers pull little.
+    const double k = prm.inlier_m, w = std::abs(r) <= k ? 1.0 : k / std::abs(r);
+    Eigen::Matrix<double, 6, 1> J;
+    J.head<3>() = p.cross(n) / depth_scale;
+    J.tail<3>() = n;
+    H_.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
+    b_ += w * r * J;
+    ++system_points_;
+  }
+  res->sampled = int(ref.size());
+  res->associated = associated;
+  res->inliers = inliers;
+  res->rms_m = inliers ? std::sqrt(sq / inliers) : 0.0;
+  res->ncc = 0;
+  res->ref_intensity_std = 0;
+  if (inliers > 1) {
+    const double N = inliers;
+    const double cov = sab - sa * sb / N, va = saa - sa * sa / N, vb = sbb - sb * sb / N;
+    if (va > 1e-12 && vb > 1e-12) res->ncc = cov / std::sqrt(va * vb);
+    res->ref_intensity_std = std::sqrt(std::max(0.0, va / N));
+  }
+}
+
+AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& cur,
+                                    const std::vector<float>& cur_intensity,
+                                    const Camera& map_camera, const Isometry3d& T_ref_cur,
+                                    const AlignmentParams& prm) {
+  AlignmentResult res;
+  Isometry3d T_cur_ref = T_ref_cur.inverse();
+  // Rotation columns divided by the mean depth, so that rotation and translation directions
+  // have comparable eigenvalues.
+  double depth_scale = 0;
+  for (const auto& p : ref.point) depth_scale += p.z();
+  depth_scale = ref.size() ? std::max(0.1, depth_scale / double(ref.size())) : 1.0;
+  for (int it = 0; it < prm.iterations; ++it) {
+    evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, true, &res);
+    // Too few points for six unknowns, or a step no small-motion linearisation can take: the
+    // hypothesis is left as it is (and judged as it is).
+    if (system_points_ < std::max(12, int(ref.size() / 20))) break;
+    const Eigen::Matrix<double, 6, 6> H =
+        Eigen::Matrix<double, 6, 6>(H_.selfadjointView<Eigen::Lower>()) / system_points_;
+    const Eigen::Matrix<double, 6, 1> b = b_ / system_points_;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H);
+    Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
+    res.constrained = 0;
+    res.free_rotation = res.free_translation = false;
+    for (int k = 0; k < 6; ++k) {
+      const double lambda = eig.eigenvalues()(k);
+      if (lambda < prm.min_eigenvalue) {
+        const bool rotational = eig.eigenvectors().col(k).head<3>().squaredNorm() > 0.5;
+        (rotational ? res.free_rotation : res.free_translation) = true;
+        continue;
+      }
+      ++res.constrained;
+      const auto vk = eig.eigenvectors().col(k);
+      xi += (vk.dot(b) / lambda) * vk;
+    }
+    xi.head<3>() /= depth_scale;
+    if (!xi.allFinite() || xi.head<3>().norm() > 0.3 || xi.tail<3>().norm() > 0.3) break;
+    T_cur_ref = increment(xi) * T_cur_ref;
+    T_cur_ref.linear() = Eigen::Quaterniond(T_cur_ref.linear()).normalized().toRotationMatrix();
+    if (xi.head<3>().norm() < 1e-5 && xi.tail<3>().norm() < 1e-5) break;
+  }
+  evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, false, &res);
+  res.T_ref_cur = T_cur_ref.inverse();
+  return res;
+}
+
+}  // namespace nidevo

@@ -1,0 +1,143 @@
+// The pose check of Odometry (stage 3's last step): the method's pose is a hypothesis, refined
+// and verified against the reference frame's surface; the prediction is the fallback.
+#include <algorithm>
+
+#include "nidevo/odometry/odometry.hpp"
+#include "verification_state.hpp"
+
+namespace nidevo {
+
+using Eigen::Isometry3d;
+
+namespace {
+
+struct Verdict {
+  bool passed = false;
+  const char* reason = "";
+};
+
+Verdict judge(const AlignmentResult& a, const OdometryConfig& c) {
+  if (a.overlapFraction() < c.verify_min_overlap)
+    return {false, "pose failed verification: too little of the reference frame in view"};
+  if (a.inlierFraction() < c.verify_min_inliers)
+    return {false, "pose failed verification: depth disagrees with the pose"};
+  if (a.rms_m > c.verify_max_rms_m)
+    return {false, "pose failed verification: surface residual too large"};
+  if (a.ref_intensity_std >= c.verify_texture_std && a.ncc < c.verify_min_ncc)
+    return {false, "pose failed verification: grey values disagree with the pose"};
+  return {true, ""};
+}
+
+// More agreeing points first; on texture, grey-value agreement breaks near-ties (a periodic
+// pattern shifted by a period fits the depth as well as the truth).
+double score(const AlignmentResult& a, const OdometryConfig& c) {
+  const double ncc = a.ref_intensity_std >= c.verify_texture_std ? std::clamp(a.ncc, 0.0, 1.0) : 0;
+  return a.inliers * (1.0 + 0.5 * ncc);
+}
+
+PoseVerification summary(const AlignmentResult& a, const char* hypothesis, bool passed) {
+  PoseVerification v;
+  v.hypothesis = hypothesis;
+  v.inlier_fraction = a.inlierFraction();
+  v.overlap_fraction = a.overlapFraction();
+  v.residual_rms_m = a.rms_m;
+  v.ncc = a.ncc;
+  v.constrained_directions = a.constrained;
+  v.free_rotation = a.free_rotation;
+  v.free_translation = a.free_translation;
+  v.passed = passed;
+  return v;
+}
+
+}  // namespace
+
+void Odometry::renewReference(const FrameState& s, const Isometry3d& T_out,
+                              const Isometry3d& T_method) {
+  VerificationState& v = *verify_;
+  sampleSurface(s.normals, s.map_intensity, config_.verify_sample_step, &v.reference);
+  v.T_out_ref = T_out;
+  v.T_method_ref = T_method;
+  v.frames_since_reference = 0;
+  v.has_reference = true;
+}
+
+void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
+                          const char* method_problem, bool translation_measured,
+                          PoseEstimate* out) {
+  VerificationState& v = *verify_;
+  out->state = TrackingState::kOk;
+  out->reason = "";
+  if (!s.depth_ok) {
+    out->T_world_cam = v.has_reference ? v.motion.predict() : T_method;
+    out->state = TrackingState::kLost;
+    out->reason = method_problem;
+    ++v.degraded_frames;
+    v.motion.update(out->T_world_cam, false);
+    return;
+  }
+  if (!v.has_reference) {
+    out->T_world_cam = T_method;
+    renewReference(s, T_method, T_method);
+    v.motion.update(T_method, true);
+    return;
+  }
+  // Hypotheses in the reference's frame, the method's first: on the common path it passes and
+  // the others are never tried.
+  const Isometry3d hypotheses[] = {v.T_method_ref.inverse() * T_method,
+                                   v.T_out_ref.inverse() * v.motion.predict(),
+                                   v.T_out_ref.inverse() * v.motion.last()};
+  const char* const names[] = {"method", "prediction", "last pose"};
+  AlignmentResult best;
+  Verdict verdict;
+  const char* hypothesis = "";
+  for (int h = 0; h < 3; ++h) {
+    const AlignmentResult a = v.aligner.align(v.reference, s.normals, s.map_intensity, v.map_camera,
+                                              hypotheses[h], v.params);
+    const Verdict d = judge(a, config_);
+    // The best fit wins, ties to the earlier (preferring the method on near-ties measured
+    // worse on the real clip: its one-plane rotation is the weaker start).
+    if (h == 0 || (d.passed && !verdict.passed) ||
+        (d.passed == verdict.passed && score(a, config_) > score(best, config_))) {
+      best = a;
+      verdict = d;
+      hypothesis = names[h];
+    }
+    if (verdict.passed && method_problem == nullptr) break;
+  }
+  if (best.overlapFraction() < config_.verify_min_overlap) {
+    // No hypothesis keeps the reference in view: nothing was measured, so nothing is moved.
+    best.T_ref_cur = hypotheses[1];
+    hypothesis = "prediction";
+  }
+  out->T_world_cam = v.T_out_ref * best.T_ref_cur;
+  out->verification = summary(best, hypothesis, verdict.passed);
+  // Along a direction the geometry leaves free the pose is the hypothesis': trusted only when
+  // that is the method's own, and the method measured that kind of motion (a rotation from two
+  // planes, a translation from a confident KCC match).
+  const bool from_method = hypothesis == names[0];
+  const bool rotation_measured = s.rotation_source == RotationSource::kPlanes;
+  const bool free_direction_trusted =
+      best.constrained == 6 || (from_method && (!best.free_rotation || rotation_measured) &&
+                                (!best.free_translation || translation_measured));
+  if (!verdict.passed) {
+    out->state = TrackingState::kDegraded;
+    out->reason = verdict.reason;
+  } else if (!free_direction_trusted) {
+    out->state = TrackingState::kDegraded;
+    out->reason = method_problem ? method_problem : "geometry leaves a direction unverified";
+  }
+  if (out->state == TrackingState::kDegraded && ++v.degraded_frames > config_.max_degraded_frames)
+    out->state = TrackingState::kLost;
+  if (out->state == TrackingState::kOk) v.degraded_frames = 0;
+  const bool ok = out->state == TrackingState::kOk;
+  v.motion.update(out->T_world_cam, ok);
+  // A failed frame renews the reference only when its pose still sees the old one: a frame that
+  // lost it (a glance away) is no better a reference than the last good one.
+  const bool plausible = best.overlapFraction() >= config_.verify_min_overlap;
+  if ((!ok && plausible) || (ok && best.overlapFraction() < config_.reference_min_overlap) ||
+      ++v.frames_since_reference >= config_.reference_max_frames) {
+    renewReference(s, out->T_world_cam, T_method);
+  }
+}
+
+}  // namespace nidevo

@@ -1,0 +1,24 @@
+#pragma once
+// Odometry's private state for the pose check: the reference frame's surface sample and poses.
+#include "nidevo/odometry/depth_alignment.hpp"
+#include "nidevo/odometry/motion_model.hpp"
+#include "nidevo/odometry/odometry.hpp"
+
+namespace nidevo {
+
+struct Odometry::VerificationState {
+  VerificationState(const OdometryConfig& c, const Camera& camera)
+      : params(alignmentParams(c)), map_camera(camera.subsampled(c.normal_stride)) {}
+  const AlignmentParams params;
+  const Camera map_camera;
+  bool has_reference = false;
+  SurfaceSample reference;
+  Eigen::Isometry3d T_out_ref = Eigen::Isometry3d::Identity();     // as reported
+  Eigen::Isometry3d T_method_ref = Eigen::Isometry3d::Identity();  // the method's own chain
+  int frames_since_reference = 0;
+  int degraded_frames = 0;  // consecutive; LOST beyond max_degraded_frames
+  MotionModel motion;       // of the reported poses
+  DepthAligner aligner;
+};
+
+}  // namespace nidevo

@@ -1,0 +1,140 @@
+#include "nidevo/odometry/depth_alignment.hpp"
+
+#include <gtest/gtest.h>
+
+#include "nidevo/odometry/odometry_config.hpp"
+#include "nidevo/sim/sequence.hpp"
+
+namespace nidevo {
+namespace {
+
+using Eigen::Isometry3d;
+
+// A rendered frame's normal map and grey values at the map's pixels, as the odometry has them.
+struct MapFrame {
+  NormalMap map;
+  std::vector<float> intensity;
+};
+
+MapFrame mapOf(const RgbdFrame& frame, const Camera& camera, const OdometryConfig& c) {
+  MapFrame out;
+  NormalMapBuilder builder;
+  builder.compute(frame.depth, camera, c.normal_stride, c.cell_size, c.depth_discontinuity,
+                  c.min_depth_m, c.max_depth_m, c.crease_dot, &out.map);
+  out.intensity.resize(out.map.normal.size());
+  for (int v = 0; v < out.map.height; ++v)
+    for (int u = 0; u < out.map.width; ++u)
+      out.intensity[size_t(v * out.map.width + u)] =
+          float(frame.gray.at(u * c.normal_stride, v * c.normal_stride)) / 255.f;
+  return out;
+}
+
+Isometry3d motion(double angle, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+double angleDeg(const Isometry3d& T) {
+  return Eigen::AngleAxisd(T.rotation()).angle() * 180.0 / M_PI;
+}
+
+class DepthAlignmentTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    synth::SequenceConfig sc;
+    sc.frames = 1;
+    seq_ = std::make_unique<synth::SyntheticSequence>(sc);
+    camera_ = seq_->config().camera;
+    T0_ = seq_->groundTruth(0);
+    ref_ = mapOf(seq_->renderAt(T0_, 0.0, 0).frame, camera_, config_);
+    sampleSurface(ref_.map, ref_.intensity, config_.verify_sample_step, &sample_);
+  }
+  AlignmentResult alignTo(const Isometry3d& T_ref_cur, const Isometry3d& hypothesis,
+                          int iterations) {
+    const MapFrame cur = mapOf(seq_->renderAt(T0_ * T_ref_cur, 0.033, 1).frame, camera_, config_);
+    AlignmentParams p = alignmentParams(config_);
+    p.iterations = iterations;
+    return aligner_.align(sample_, cur.map, cur.intensity,
+                          camera_.subsampled(config_.normal_stride), hypothesis, p);
+  }
+  OdometryConfig config_;
+  std::unique_ptr<synth::SyntheticSequence> seq_;
+  Camera camera_;
+  Isometry3d T0_;
+  MapFrame ref_;
+  SurfaceSample sample_;
+  DepthAligner aligner_;
+};
+
+TEST_F(DepthAlignmentTest, SamplesOnlySmoothPixels) {
+  ASSERT_GT(sample_.size(), 1000u);
+  EXPECT_EQ(sample_.normal.size(), sample_.size());
+  EXPECT_EQ(sample_.intensity.size(), sample_.size());
+  for (size_t i = 0; i < sample_.size(); ++i) {
+    EXPECT_GT(sample_.point[i].z(), 0.f);
+    EXPECT_NEAR(sample_.normal[i].norm(), 1.f, 1e-4f);
+  }
+}
+
+TEST_F(DepthAlignmentTest, TheTruePoseAgreesEverywhere) {
+  const Isometry3d truth = motion(0.03, {0.2, 1, 0.1}, {0.03, -0.01, 0.02});
+  const AlignmentResult a = alignTo(truth, truth, 0);
+  EXPECT_GT(a.overlapFraction(), 0.8);
+  EXPECT_GT(a.inlierFraction(), 0.95);
+  EXPECT_LT(a.rms_m, 0.004);
+  EXPECT_GT(a.ncc, 0.8);
+}
+
+TEST_F(DepthAlignmentTest, RefinementRecoversAKnownMotionFromTheIdentity) {
+  const Isometry3d truth = motion(0.035, {0.3, 1, 0.2}, {0.04, -0.02, 0.03});
+  const AlignmentResult a = alignTo(truth, Isometry3d::Identity(), 10);
+  const Isometry3d err = truth.inverse() * a.T_ref_cur;
+  EXPECT_EQ(a.constrained, 6);
+  EXPECT_LT(angleDeg(err), 0.1);
+  EXPECT_LT(err.translation().norm(), 0.003);
+  EXPECT_GT(a.inlierFraction(), 0.95);
+}
+
+TEST_F(DepthAlignmentTest, APlantedTenDegreeRotationErrorFailsTheCheck) {
+  const Isometry3d truth = motion(0.02, {0, 1, 0}, {0.02, 0, 0.01});
+  for (const Eigen::Vector3d& axis :
+       {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 0, 1)}) {
+    const Isometry3d wrong = truth * motion(10 * M_PI / 180, axis, Eigen::Vector3d::Zero());
+    const AlignmentResult a = alignTo(truth, wrong, 0);
+    EXPECT_LT(a.inlierFraction(), config_.verify_min_inliers) << axis.transpose();
+  }
+}
+
+TEST_F(DepthAlignmentTest, DirectionsTheGeometryLeavesFreeKeepTheHypothesis) {
+  // Only the largest plane in view (everything else cut away): motion along it is unobservable.
+  MapFrame floor = ref_;
+  Eigen::Vector3f down = Eigen::Vector3f::Zero();
+  size_t most = 0;
+  for (size_t c = 0; c < sample_.size(); c += sample_.size() / 50) {
+    size_t n = 0;
+    for (const auto& m : sample_.normal) n += m.dot(sample_.normal[c]) > 0.95f;
+    if (n > most) most = n, down = sample_.normal[c];
+  }
+  for (size_t i = 0; i < floor.map.normal.size(); ++i)
+    if (floor.map.valid[i] && std::abs(floor.map.normal[i].dot(down)) < 0.95f)
+      floor.map.valid[i] = floor.map.smooth[i] = 0;
+  SurfaceSample sample;
+  sampleSurface(floor.map, floor.intensity, config_.verify_sample_step, &sample);
+  ASSERT_GT(sample.size(), 100u);
+  const Isometry3d hypothesis = motion(0, {0, 1, 0}, {0.05, 0, 0});
+  AlignmentParams p = alignmentParams(config_);
+  p.iterations = 5;
+  const AlignmentResult a = aligner_.align(
+      sample, floor.map, floor.intensity, camera_.subsampled(config_.normal_stride), hypothesis, p);
+  EXPECT_LE(a.constrained, 3);
+  // The in-plane part of the hypothesis survives; only the normal component may change.
+  const Eigen::Vector3d moved = a.T_ref_cur.translation();
+  const Eigen::Vector3d n = down.cast<double>();
+  EXPECT_NEAR((moved - moved.dot(n) * n).norm(),
+              (hypothesis.translation() - hypothesis.translation().dot(n) * n).norm(), 1e-3);
+}
+
+}  // namespace
+}  // namespace nidevo
