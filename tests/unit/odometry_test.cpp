@@ -78,15 +78,26 @@ TEST(Odometry, OnePlaneIsDegradedNotGarbage) {
   // A single wall 2 m ahead fills the view.
   RgbdFrame wall = seq.renderFrame(0);
   std::fill(wall.depth.data.begin(), wall.depth.data.end(), 2.f);
-  Odometry odometry(cam, OdometryConfig{});
-  odometry.track(wall);
-  wall.timestamp += 0.033;
-  const PoseEstimate p = odometry.track(wall);
-  EXPECT_EQ(p.state, TrackingState::kDegraded);
-  EXPECT_LE(p.planes_used, 1);
-  EXPECT_NE(p.rotation_source, RotationSource::kPlanes);
-  EXPECT_TRUE(finitePose(p.T_world_cam));
-  EXPECT_LT(p.T_world_cam.translation().norm(), 0.01);
+  OdometryConfig depth_only;
+  depth_only.align_photometric_weight = 0;  // nothing but the wall's geometry to check with
+  for (const OdometryConfig& config : {depth_only, OdometryConfig{}}) {
+    Odometry odometry(cam, config);
+    RgbdFrame frame = wall;
+    odometry.track(frame);
+    frame.timestamp += 0.033;
+    const PoseEstimate p = odometry.track(frame);
+    EXPECT_LE(p.planes_used, 1);
+    EXPECT_NE(p.rotation_source, RotationSource::kPlanes);
+    EXPECT_TRUE(finitePose(p.T_world_cam));
+    EXPECT_LT(p.T_world_cam.translation().norm(), 0.01);
+    if (config.align_photometric_weight == 0) {
+      EXPECT_EQ(p.state, TrackingState::kDegraded);
+    } else if (p.state == TrackingState::kOk) {
+      // The wall's texture fixed what its geometry leaves free.
+      EXPECT_TRUE(p.verification.passed);
+      EXPECT_FALSE(p.verification.free_rotation);
+    }
+  }
 }
 
 TEST(Odometry, AllBlackImageDoesNotCrashOrProduceNaN) {

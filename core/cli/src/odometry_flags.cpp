@@ -46,6 +46,8 @@ ABSL_FLAG(int, align_iterations, kDefaults.align_iterations,
           "only checked)");
 ABSL_FLAG(double, align_min_eigenvalue, kDefaults.align_min_eigenvalue,
           "Directions the geometry constrains less than this keep the hypothesis' value");
+ABSL_FLAG(double, align_photometric_weight, kDefaults.align_photometric_weight,
+          "Grey-value residuals in the refinement, metres per grey unit (0: depth only)");
 ABSL_FLAG(int, verify_sample_step, kDefaults.verify_sample_step,
           "Check every n-th smooth normal-map pixel of the reference");
 ABSL_FLAG(double, verify_min_inliers, kDefaults.verify_min_inliers,
@@ -82,6 +84,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.psr_bound = float(absl::GetFlag(FLAGS_psr_bound));
   c.align_iterations = absl::GetFlag(FLAGS_align_iterations);
   c.align_min_eigenvalue = float(absl::GetFlag(FLAGS_align_min_eigenvalue));
+  c.align_photometric_weight = float(absl::GetFlag(FLAGS_align_photometric_weight));
   c.verify_sample_step = absl::GetFlag(FLAGS_verify_sample_step);
   c.verify_min_inliers = float(absl::GetFlag(FLAGS_verify_min_inliers));
   c.verify_max_rms_m = float(absl::GetFlag(FLAGS_verify_max_rms));

@@ -52,7 +52,40 @@ Isometry3d increment(const Eigen::Matrix<double, 6, 1>& xi) {
   return T;
 }
 
+// Bilinear grey value at (u, v) and its gradient with respect to the camera-frame point p
+// (image gradient by central differences, times the pinhole projection's Jacobian; the lens
+// distortion's own derivative is left out: it is near 1 where texture matters).
+bool greyAndGradient(const std::vector<float>& image, int width, int height, const Camera& cam,
+                     const Vector3d& p, double u, double v, double* grey, Vector3d* gradient) {
+  const int u0 = int(std::floor(u)), v0 = int(std::floor(v));
+  if (u0 < 1 || v0 < 1 || u0 + 2 >= width || v0 + 2 >= height) return false;
+  const double a = u - u0, b = v - v0;
+  auto at = [&](int x, int y) { return double(image[size_t(y) * size_t(width) + size_t(x)]); };
+  auto bilinear = [&](int x, int y) {
+    return (1 - a) * (1 - b) * at(x, y) + a * (1 - b) * at(x + 1, y) + (1 - a) * b * at(x, y + 1) +
+           a * b * at(x + 1, y + 1);
+  };
+  *grey = bilinear(u0, v0);
+  const double gu = 0.5 * (bilinear(u0 + 1, v0) - bilinear(u0 - 1, v0));
+  const double gv = 0.5 * (bilinear(u0, v0 + 1) - bilinear(u0, v0 - 1));
+  const double iz = 1.0 / p.z();
+  *gradient = Vector3d(gu * cam.fx * iz, gv * cam.fy * iz,
+                       -(gu * cam.fx * p.x() + gv * cam.fy * p.y()) * iz * iz);
+  return true;
+}
+
 }  // namespace
+
+// One residual r with the model's derivative direction d (a normal, or a grey gradient): the
+// Jacobian row is [p x d / depth_scale, d].
+void DepthAligner::addRow(const Vector3d& p, const Vector3d& d, double r, double w,
+                          double depth_scale) {
+  Eigen::Matrix<double, 6, 1> J;
+  J.head<3>() = p.cross(d) / depth_scale;
+  J.tail<3>() = d;
+  H_.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
+  b_ += w * r * J;
+}
 
 void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
                             const std::vector<float>& cur_intensity, const Camera& cam,
@@ -90,12 +123,19 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
     if (!build_system) continue;
     // Huber weight (scale: the inlier threshold), so that the gate's outliers pull little.
     const double k = prm.inlier_m, w = std::abs(r) <= k ? 1.0 : k / std::abs(r);
-    Eigen::Matrix<double, 6, 1> J;
-    J.head<3>() = p.cross(n) / depth_scale;
-    J.tail<3>() = n;
-    H_.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
-    b_ += w * r * J;
+    addRow(p, n, r, w, depth_scale);
     ++system_points_;
+    if (use_photometric_) {
+      Eigen::Vector3d g;
+      double grey;
+      if (greyAndGradient(cur_intensity, cur.width, cur.height, cam, p, uf, vf, &grey, &g)) {
+        const double lambda = prm.photometric_weight;
+        const double rg = gain_ * ref.intensity[i] + bias_ - grey;
+        const double kg = prm.photometric_huber;
+        const double wg = std::abs(rg) <= kg ? 1.0 : kg / std::abs(rg);
+        addRow(p, lambda * g, lambda * rg, wg, depth_scale);
+      }
+    }
   }
   res->sampled = int(ref.size());
   res->associated = associated;
@@ -108,25 +148,25 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
     const double cov = sab - sa * sb / N, va = saa - sa * sa / N, vb = sbb - sb * sb / N;
     if (va > 1e-12 && vb > 1e-12) res->ncc = cov / std::sqrt(va * vb);
     res->ref_intensity_std = std::sqrt(std::max(0.0, va / N));
+    // Exposure: the current grey values as gain * reference + bias, for the next pass.
+    if (va > 1e-9) {
+      gain_ = std::clamp(cov / va, 0.5, 2.0);
+      bias_ = (sb - gain_ * sa) / N;
+    }
   }
 }
 
-AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& cur,
-                                    const std::vector<float>& cur_intensity,
-                                    const Camera& map_camera, const Isometry3d& T_ref_cur,
-                                    const AlignmentParams& prm) {
-  AlignmentResult res;
-  Isometry3d T_cur_ref = T_ref_cur.inverse();
-  // Rotation columns divided by the mean depth, so that rotation and translation directions
-  // have comparable eigenvalues.
-  double depth_scale = 0;
-  for (const auto& p : ref.point) depth_scale += p.z();
-  depth_scale = ref.size() ? std::max(0.1, depth_scale / double(ref.size())) : 1.0;
+void DepthAligner::gaussNewton(const SurfaceSample& ref, const NormalMap& cur,
+                               const std::vector<float>& cur_intensity, const Camera& map_camera,
+                               const AlignmentParams& prm, double depth_scale,
+                               Isometry3d* T_cur_ref_io, AlignmentResult* result) {
+  Isometry3d& T_cur_ref = *T_cur_ref_io;
+  AlignmentResult& res = *result;
   for (int it = 0; it < prm.iterations; ++it) {
     evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, true, &res);
     // Too few points for six unknowns, or a step no small-motion linearisation can take: the
     // hypothesis is left as it is (and judged as it is).
-    if (system_points_ < std::max(12, int(ref.size() / 20))) break;
+    if (system_points_ < std::max(12, int(ref.size() / 20))) return;
     const Eigen::Matrix<double, 6, 6> H =
         Eigen::Matrix<double, 6, 6>(H_.selfadjointView<Eigen::Lower>()) / system_points_;
     const Eigen::Matrix<double, 6, 1> b = b_ / system_points_;
@@ -146,11 +186,36 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& c
       xi += (vk.dot(b) / lambda) * vk;
     }
     xi.head<3>() /= depth_scale;
-    if (!xi.allFinite() || xi.head<3>().norm() > 0.3 || xi.tail<3>().norm() > 0.3) break;
+    if (!xi.allFinite() || xi.head<3>().norm() > 0.3 || xi.tail<3>().norm() > 0.3) return;
     T_cur_ref = increment(xi) * T_cur_ref;
     T_cur_ref.linear() = Eigen::Quaterniond(T_cur_ref.linear()).normalized().toRotationMatrix();
-    if (xi.head<3>().norm() < 1e-5 && xi.tail<3>().norm() < 1e-5) break;
+    if (xi.head<3>().norm() < 1e-5 && xi.tail<3>().norm() < 1e-5) return;
   }
+}
+
+AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& cur,
+                                    const std::vector<float>& cur_intensity,
+                                    const Camera& map_camera, const Isometry3d& T_ref_cur,
+                                    const AlignmentParams& prm) {
+  AlignmentResult res;
+  Isometry3d T_cur_ref = T_ref_cur.inverse();
+  gain_ = 1.0;
+  bias_ = 0.0;
+  // Rotation columns divided by the mean depth, so that rotation and translation directions
+  // have comparable eigenvalues.
+  double depth_scale = 0;
+  for (const auto& p : ref.point) depth_scale += p.z();
+  depth_scale = ref.size() ? std::max(0.1, depth_scale / double(ref.size())) : 1.0;
+  // Depth alone first; where it leaves a direction free, again with the grey values, so that
+  // texture fixes what geometry cannot (and costs nothing where geometry suffices).
+  const bool photometric = use_photometric_;
+  use_photometric_ = false;
+  gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, &T_cur_ref, &res);
+  if (res.constrained < 6 && prm.photometric_weight > 0 && photometric) {
+    use_photometric_ = true;
+    gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, &T_cur_ref, &res);
+  }
+  use_photometric_ = photometric;
   evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, false, &res);
   res.T_ref_cur = T_cur_ref.inverse();
   return res;

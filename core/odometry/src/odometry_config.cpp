@@ -71,6 +71,7 @@ std::string OdometryConfig::validate() const {
   if (!in(align_inlier_per_m, 0, 1)) return "align_inlier_per_m must be in [0, 1]";
   if (!in(align_normal_dot, -1, 1)) return "align_normal_dot must be in [-1, 1]";
   if (!in(align_min_eigenvalue, 0, 100)) return "align_min_eigenvalue must be in [0, 100]";
+  if (!in(align_photometric_weight, 0, 10)) return "align_photometric_weight must be in [0, 10]";
   if (!in(verify_min_inliers, 0, 1)) return "verify_min_inliers must be in [0, 1]";
   if (!in(verify_min_overlap, 0, 1)) return "verify_min_overlap must be in [0, 1]";
   if (!in(verify_max_rms_m, 0, 10)) return "verify_max_rms_m must be in [0, 10]";
@@ -103,6 +104,7 @@ AlignmentParams alignmentParams(const OdometryConfig& c) {
   p.inlier_per_m = c.align_inlier_per_m;
   p.normal_dot = c.align_normal_dot;
   p.min_eigenvalue = c.align_min_eigenvalue;
+  p.photometric_weight = c.align_photometric_weight;
   return p;
 }
 

@@ -32,8 +32,12 @@ struct AlignmentParams {
   float inlier_m = 0.02f;        // a residual below this (plus inlier_per_m * depth) is an inlier
   float inlier_per_m = 0.01f;    // depth noise grows with range
   float normal_dot = 0.8f;       // warped reference normal and current normal at least this aligned
-  float min_eigenvalue = 0.004f;  // normalised Hessian eigenvalue below which a direction is left
-                                  // to the hypothesis
+  // Grey-value residuals join the point-to-plane ones with this factor (metres per grey unit of
+  // [0, 1]), so that texture fixes what the geometry leaves free; 0: geometry only.
+  float photometric_weight = 0.1f;
+  float photometric_huber = 0.05f;  // grey units
+  float min_eigenvalue = 0.004f;    // normalised Hessian eigenvalue below which a direction is left
+                                    // to the hypothesis
 };
 
 struct AlignmentResult {
@@ -70,9 +74,19 @@ class DepthAligner {
                 const Eigen::Isometry3d& T_cur_ref, const AlignmentParams& params,
                 double depth_scale, bool build_system, AlignmentResult* result);
 
+  // Up to params.iterations steps from *T_cur_ref, updated in place.
+  void gaussNewton(const SurfaceSample& ref, const NormalMap& cur,
+                   const std::vector<float>& cur_intensity, const Camera& map_camera,
+                   const AlignmentParams& params, double depth_scale, Eigen::Isometry3d* T_cur_ref,
+                   AlignmentResult* result);
+  void addRow(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double r, double w,
+              double depth_scale);
+
   Eigen::Matrix<double, 6, 6> H_;
   Eigen::Matrix<double, 6, 1> b_;
   int system_points_ = 0;
+  double gain_ = 1.0, bias_ = 0.0;
+  bool use_photometric_ = true;  // exposure change, estimated on the previous pass
 };
 
 }  // namespace nidevo

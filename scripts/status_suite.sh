@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Runs nidevo-run on the stress suite's sequences (build/stress/stress_*, rendered by
+# scripts/stress_suite.sh) and on the real clip, one per-frame CSV each, then prints per sequence
+# the ATE, the OK share and the silent failures, and the per-status error table over the suite
+# and over the real clip. Extra arguments go to nidevo-run (e.g. --align_photometric_weight 0).
+# Usage: scripts/status_suite.sh [nidevo-run flags...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=build/status
+mkdir -p "$out"
+real=../shared/data/tum_fr1_rpy_first250
+printf '%-12s %8s %8s %7s\n' sequence "ATE m" "OK" silent
+run() {  # name, nidevo-run arguments...
+  local name=$1
+  shift
+  build/bin/nidevo-run "$@" --frames_csv "$out/$name.csv" >"$out/$name.txt"
+  local ate ok frames silent
+  ate=$(grep -m1 rmse "$out/$name.txt" | awk '{print $2}')
+  ok=$(awk -F, 'NR>1 && $3=="OK"' "$out/$name.csv" | wc -l)
+  frames=$(($(wc -l <"$out/$name.csv") - 1))
+  silent=$(grep '^silent failures' "$out/$name.txt" | sed 's/.*: \([0-9]*\) of.*/\1/')
+  printf '%-12s %8.4f %7.1f%% %7s\n' "$name" "$ate" "$(echo "100 * $ok / $frames" | bc -l)" "$silent"
+}
+suite=()
+for dir in build/stress/stress_*/; do
+  name=$(basename "$dir")
+  run "$name" --dataset "$dir" "$@"
+  suite+=("$out/$name.csv")
+done
+[ -d "$real" ] && run tum_fr1_rpy --dataset "$real" --camera tum_fr1 "$@"
+if [ ${#suite[@]} -gt 0 ]; then
+  echo; echo "stress suite (${#suite[@]} sequences):"; python3 scripts/status_table.py "${suite[@]}"
+fi
+if [ -d "$real" ]; then
+  echo; echo "real clip:"; python3 scripts/status_table.py "$out/tum_fr1_rpy.csv"
+fi
