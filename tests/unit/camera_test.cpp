@@ -79,3 +79,47 @@ TEST(Camera, BadFilesNameFileAndLine) {
 
 }  // namespace
 }  // namespace nidevo
+
+namespace nidevo {
+namespace {
+
+TEST(Camera, TumPresetsCarryTheirDistortionAndItRoundTripsWithinAHundredthOfAPixel) {
+  EXPECT_TRUE(cameraPreset("tum_fr3")->distortion.none());
+  EXPECT_TRUE(cameraPreset("icl")->distortion.none());
+  for (const char* name : {"tum_fr1", "tum_fr2"}) {
+    const Camera cam = *cameraPreset(name);
+    ASSERT_FALSE(cam.distortion.none()) << name;
+    double worst = 0;
+    for (int v = 0; v < cam.height; v += 4) {
+      for (int u = 0; u < cam.width; u += 4) {
+        const Eigen::Vector2d d((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy);
+        const Eigen::Vector2d back = cam.distortion.distort(cam.distortion.undistort(d));
+        worst =
+            std::max(worst, std::hypot((back.x() - d.x()) * cam.fx, (back.y() - d.y()) * cam.fy));
+      }
+    }
+    EXPECT_LT(worst, 0.01) << name;
+  }
+}
+
+TEST(Camera, ExpandedRaysAreTheSeparableOnesWithoutDistortionAndUndistortedWithIt) {
+  const std::vector<float> columns = {-0.5f, 0.f, 0.4f}, rows = {-0.3f, 0.2f};
+  std::vector<float> rx, ry;
+  expandRays(Distortion{}, columns, rows, &rx, &ry);
+  ASSERT_EQ(rx.size(), 6u);
+  for (size_t v = 0; v < 2; ++v) {
+    for (size_t u = 0; u < 3; ++u) {
+      EXPECT_EQ(rx[v * 3 + u], columns[u]);
+      EXPECT_EQ(ry[v * 3 + u], rows[v]);
+    }
+  }
+  const Distortion d = cameraPreset("tum_fr1")->distortion;
+  expandRays(d, columns, rows, &rx, &ry);
+  const Eigen::Vector2d corner = d.distort({rx[0], ry[0]});
+  EXPECT_NEAR(corner.x(), columns[0], 1e-6);
+  EXPECT_NEAR(corner.y(), rows[0], 1e-6);
+  EXPECT_GT(std::abs(rx[0] - columns[0]), 1e-3);  // the corner ray really moved
+}
+
+}  // namespace
+}  // namespace nidevo

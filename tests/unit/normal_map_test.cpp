@@ -16,7 +16,10 @@ DepthImageF planeDepth(const Camera& cam, const Eigen::Vector3f& n, float d) {
   DepthImageF depth(cam.width, cam.height, 0.f);
   for (int v = 0; v < cam.height; ++v) {
     for (int u = 0; u < cam.width; ++u) {
-      const Eigen::Vector3f ray(float((u - cam.cx) / cam.fx), float((v - cam.cy) / cam.fy), 1.f);
+      // The pixel's true ray: through the lens distortion when the camera has one.
+      const Eigen::Vector2d xy =
+          cam.distortion.undistort({(u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy});
+      const Eigen::Vector3f ray(float(xy.x()), float(xy.y()), 1.f);
       const float z = -d / n.dot(ray);
       depth.at(u, v) = z > 0 && z < 20 ? z : 0.f;
     }

@@ -40,6 +40,68 @@ TEST(Odometry, RecoversAKnownTranslationBetweenTwoFrames) {
   }
 }
 
+TEST(Odometry, UndistortsTheLensOfTheCamera) {
+  synth::SequenceConfig c = officeConfig(1);
+  c.camera = *cameraPreset("tum_fr1");  // TUM's fr1 lens: k1 0.26, strong at the corners
+  const synth::SyntheticSequence seq(c);
+  const Eigen::Isometry3d T0 = seq.groundTruth(0);
+  Eigen::Isometry3d T1 = T0;
+  T1.linear() = T0.linear() * Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T1.translation() += T0.linear() * Eigen::Vector3d(0.03, -0.02, 0.03);
+  const Eigen::Isometry3d truth = T0.inverse() * T1;
+  Camera pinhole = c.camera;
+  pinhole.distortion = Distortion{};
+  double errors[2];
+  for (int k = 0; k < 2; ++k) {
+    Odometry odometry(k == 0 ? c.camera : pinhole, OdometryConfig{});
+    odometry.track(seq.renderAt(T0, 0.0, 0).frame);
+    const PoseEstimate p = odometry.track(seq.renderAt(T1, 0.033, 1).frame);
+    const Eigen::Isometry3d err = truth.inverse() * p.T_world_cam;
+    errors[k] = err.translation().norm() + Eigen::AngleAxisd(err.rotation()).angle();
+    if (k == 0) {
+      EXPECT_EQ(p.state, TrackingState::kOk);
+      EXPECT_LT(err.translation().norm(), 0.003);
+      EXPECT_LT(Eigen::AngleAxisd(err.rotation()).angle(), 0.002);
+    }
+  }
+  EXPECT_LT(errors[0], errors[1]);  // the pinhole model of the same lens does worse
+}
+
+TEST(Odometry, OnePlaneFallbackRecoversARollAboutThePlaneNormalFromTexture) {
+  const synth::SyntheticSequence seq(officeConfig(1));
+  const Camera cam = seq.config().camera;
+  // A textured wall 2 m ahead, square to the optical axis; the camera then rolls about that
+  // axis, the wall's normal: depth alone cannot see it, the image rotates about (cx, cy).
+  RgbdFrame wall = seq.renderFrame(0);
+  std::fill(wall.depth.data.begin(), wall.depth.data.end(), 2.f);
+  const double roll = 2.0 * M_PI / 180;
+  RgbdFrame rolled = wall;
+  rolled.timestamp += 0.033;
+  for (int v = 0; v < cam.height; ++v) {
+    for (int u = 0; u < cam.width; ++u) {
+      // Pixel (u, v) of the rolled camera sees the ray R_z(roll) * ray(u, v) of the first one.
+      const double x = (u - cam.cx) / cam.fx, y = (v - cam.cy) / cam.fy;
+      const double xs = std::cos(roll) * x - std::sin(roll) * y;
+      const double ys = std::sin(roll) * x + std::cos(roll) * y;
+      const int us = int(std::lround(xs * cam.fx + cam.cx)),
+                vs = int(std::lround(ys * cam.fy + cam.cy));
+      rolled.gray.at(u, v) = us >= 0 && vs >= 0 && us < cam.width && vs < cam.height
+                                 ? wall.gray.at(us, vs)
+                                 : uint8_t(128);
+    }
+  }
+  Odometry odometry(cam, OdometryConfig{});
+  odometry.track(wall);
+  const PoseEstimate p = odometry.track(rolled);
+
+  EXPECT_NE(p.rotation_source, RotationSource::kPlanes);
+  const Eigen::Matrix3d truth =
+      Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_LT(Eigen::AngleAxisd(truth.transpose() * p.T_world_cam.linear()).angle() * 180 / M_PI,
+            0.1);
+  EXPECT_LT(p.T_world_cam.translation().norm(), 0.005);
+}
+
 TEST(Odometry, RecoversAKnownRotationBetweenTwoFrames) {
   const synth::SyntheticSequence seq(officeConfig(1));
   const Eigen::Isometry3d T0 = seq.groundTruth(0);

@@ -8,8 +8,9 @@
 namespace nidevo {
 
 std::optional<Camera> cameraPreset(const std::string& name) {
-  auto make = [](double fx, double fy, double cx, double cy) {
+  auto make = [](double fx, double fy, double cx, double cy, Distortion d = {}) {
     Camera c;
+    c.distortion = d;
     c.fx = fx;
     c.fy = fy;
     c.cx = cx;
@@ -21,8 +22,12 @@ std::optional<Camera> cameraPreset(const std::string& name) {
   };
   if (name == "icl") return make(481.2, -480.0, 319.5, 239.5);
   if (name == "icl_fy_positive") return make(481.2, 480.0, 319.5, 239.5);
-  if (name == "tum_fr1") return make(517.3, 516.5, 318.6, 255.3);
-  if (name == "tum_fr2") return make(520.9, 521.0, 325.1, 249.7);
+  // TUM's published calibrations (vision.in.tum.de, "file formats"): fr1 and fr2 with their
+  // plumb_bob coefficients; fr3's images are already undistorted.
+  if (name == "tum_fr1")
+    return make(517.3, 516.5, 318.6, 255.3, {0.2624, -0.9531, -0.0054, 0.0026, 1.1633});
+  if (name == "tum_fr2")
+    return make(520.9, 521.0, 325.1, 249.7, {0.2312, -0.7849, -0.0033, -0.0001, 0.9172});
   if (name == "tum_fr3") return make(535.4, 539.2, 320.1, 247.6);
   return std::nullopt;
 }

@@ -51,6 +51,26 @@ std::string Camera::checkImageSize(int image_width, int image_height) const {
          " but the camera is " + std::to_string(width) + "x" + std::to_string(height);
 }
 
+void expandRays(const Distortion& d, const std::vector<float>& column_ray,
+                const std::vector<float>& row_ray, std::vector<float>* ray_x,
+                std::vector<float>* ray_y) {
+  const size_t W = column_ray.size(), H = row_ray.size();
+  ray_x->resize(W * H);
+  ray_y->resize(W * H);
+  for (size_t v = 0; v < H; ++v) {
+    for (size_t u = 0; u < W; ++u) {
+      float x = column_ray[u], y = row_ray[v];
+      if (!d.none()) {
+        const Eigen::Vector2d ideal = d.undistort(Eigen::Vector2d(x, y));
+        x = float(ideal.x());
+        y = float(ideal.y());
+      }
+      (*ray_x)[v * W + u] = x;
+      (*ray_y)[v * W + u] = y;
+    }
+  }
+}
+
 Camera Camera::subsampled(int factor) const {
   Camera c = *this;
   c.fx = fx / factor;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 // The per-pixel work is done one row at a time by the kernels below. They take planes of floats
 // through restrict pointers, compute every pixel and select with masks (no branches), so that
@@ -15,10 +16,12 @@ namespace {
 // without depth, a missing neighbour or a depth jump leaves no normal (0 and has = 0), and so do
 // the first and last pixels, which lack a neighbour.
 void centralDifferencesRow(const float* __restrict z_top, const float* __restrict z_mid,
-                           const float* __restrict z_bot, const float* __restrict ray_x,
-                           float ray_y_top, float ray_y, float ray_y_bot, int width,
-                           float depth_discontinuity, float* __restrict nx, float* __restrict ny,
-                           float* __restrict nz, uint8_t* __restrict has) {
+                           const float* __restrict z_bot, const float* __restrict rx_top,
+                           const float* __restrict rx, const float* __restrict rx_bot,
+                           const float* __restrict ry_top, const float* __restrict ry,
+                           const float* __restrict ry_bot, int width, float depth_discontinuity,
+                           float* __restrict nx, float* __restrict ny, float* __restrict nz,
+                           uint8_t* __restrict has) {
   for (int u : {0, width - 1}) nx[u] = ny[u] = nz[u] = 0.f, has[u] = 0;
   for (int u = 1; u < width - 1; ++u) {
     const float z0 = z_mid[u], zl = z_mid[u - 1], zr = z_mid[u + 1], zt = z_top[u], zb = z_bot[u];
@@ -27,9 +30,9 @@ void centralDifferencesRow(const float* __restrict z_top, const float* __restric
                         (std::abs(zr - z0) <= jump) & (zt > 0.f) & (std::abs(zt - z0) <= jump) &
                         (zb > 0.f) & (std::abs(zb - z0) <= jump);
     // a = right - left, b = bottom - top, c = a x b.
-    const float ax = ray_x[u + 1] * zr - ray_x[u - 1] * zl, ay = ray_y * zr - ray_y * zl,
+    const float ax = rx[u + 1] * zr - rx[u - 1] * zl, ay = ry[u + 1] * zr - ry[u - 1] * zl,
                 az = zr - zl;
-    const float bx = ray_x[u] * zb - ray_x[u] * zt, by = ray_y_bot * zb - ray_y_top * zt,
+    const float bx = rx_bot[u] * zb - rx_top[u] * zt, by = ry_bot[u] * zb - ry_top[u] * zt,
                 bz = zb - zt;
     float cx = ay * bz - az * by, cy = az * bx - ax * bz, cz = ax * by - ay * bx;
     const float len = std::sqrt(cx * cx + (cy * cy + cz * cz));
@@ -41,7 +44,7 @@ void centralDifferencesRow(const float* __restrict z_top, const float* __restric
     // Towards the camera: flipped when it points along the viewing ray.
     // One factor, +-1 or 0, rather than a choice per component: GCC turns such choices into
     // branches, which stop the vectoriser. c is finite here, so 0 * c is a zero.
-    const float facing = cx * (ray_x[u] * z0) + (cy * (ray_y * z0) + cz * z0) > 0.f ? -1.f : 1.f;
+    const float facing = cx * (rx[u] * z0) + (cy * (ry[u] * z0) + cz * z0) > 0.f ? -1.f : 1.f;
     const float factor = ok ? facing : 0.f;
     nx[u] = factor * cx;
     ny[u] = factor * cy;
@@ -147,25 +150,45 @@ float* NormalMapBuilder::rowOf(std::vector<float>& plane, int width, int v) {
   return plane.data() + size_t(v) * size_t(width);
 }
 
-// Back-projection as Camera::backproject computes it, with the divisions done once per column
-// and row instead of per pixel.
+// Per-pixel rays, rebuilt only when the camera changes: undistorting every pixel (Newton) is
+// too slow for every frame.
+void NormalMapBuilder::updateRays(const Camera& cam, int W, int H) {
+  const double key[] = {cam.fx,
+                        cam.fy,
+                        cam.cx,
+                        cam.cy,
+                        double(W),
+                        double(H),
+                        cam.distortion.k1,
+                        cam.distortion.k2,
+                        cam.distortion.p1,
+                        cam.distortion.p2,
+                        cam.distortion.k3};
+  if (std::equal(std::begin(key), std::end(key), rays_key_.begin(), rays_key_.end())) return;
+  rays_key_.assign(std::begin(key), std::end(key));
+  column_ray_.resize(size_t(W));
+  row_ray_.resize(size_t(H));
+  for (int u = 0; u < W; ++u) column_ray_[size_t(u)] = float((float(u) - cam.cx) / cam.fx);
+  for (int v = 0; v < H; ++v) row_ray_[size_t(v)] = float((float(v) - cam.cy) / cam.fy);
+  expandRays(cam.distortion, column_ray_, row_ray_, &ray_x_, &ray_y_);
+}
+
+// Back-projection through the per-pixel rays (Camera::backproject's divisions done once).
 void NormalMapBuilder::backProject(const DepthImageF& depth, const Camera& cam, int stride,
                                    float min_depth, float max_depth, NormalMap* out) {
   const int W = out->width, H = out->height;
-  ray_x_.resize(size_t(W));
-  ray_y_.resize(size_t(H));
-  for (int u = 0; u < W; ++u) ray_x_[size_t(u)] = float((float(u) - cam.cx) / cam.fx);
-  for (int v = 0; v < H; ++v) ray_y_[size_t(v)] = float((float(v) - cam.cy) / cam.fy);
+  updateRays(cam, W, H);
   for (int v = 0; v < H; ++v) {
     const float* row = &depth.data[size_t(v * stride) * size_t(depth.width)];
     float* z_row = rowOf(z_, W, v);
     Eigen::Vector3f* dst = &out->points[size_t(v) * size_t(W)];
-    const float ry = ray_y_[size_t(v)];
+    const float* rx = rowOf(ray_x_, W, v);
+    const float* ry = rowOf(ray_y_, W, v);
     for (int u = 0; u < W; ++u) {
       float z = row[u * stride];
       if (!(z >= min_depth && z <= max_depth)) z = 0.f;  // also rejects NaN
       z_row[u] = z;
-      dst[u] = Eigen::Vector3f(ray_x_[size_t(u)] * z, ry * z, z);
+      dst[u] = Eigen::Vector3f(rx[u] * z, ry[u] * z, z);
     }
   }
 }
@@ -179,8 +202,9 @@ void NormalMapBuilder::rawNormals(int W, int H, float depth_discontinuity) {
     std::fill_n(&has_normal_[size_t(v) * size_t(W)], W, uint8_t(0));
   }
   for (int v = 1; v < H - 1; ++v) {
-    centralDifferencesRow(rowOf(z_, W, v - 1), rowOf(z_, W, v), rowOf(z_, W, v + 1), ray_x_.data(),
-                          ray_y_[size_t(v - 1)], ray_y_[size_t(v)], ray_y_[size_t(v + 1)], W,
+    centralDifferencesRow(rowOf(z_, W, v - 1), rowOf(z_, W, v), rowOf(z_, W, v + 1),
+                          rowOf(ray_x_, W, v - 1), rowOf(ray_x_, W, v), rowOf(ray_x_, W, v + 1),
+                          rowOf(ray_y_, W, v - 1), rowOf(ray_y_, W, v), rowOf(ray_y_, W, v + 1), W,
                           depth_discontinuity, rowOf(nx_, W, v), rowOf(ny_, W, v), rowOf(nz_, W, v),
                           &has_normal_[size_t(v) * size_t(W)]);
   }

@@ -109,13 +109,13 @@ Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
       }
     }
   }
-  // Camera::backproject's per-pixel divisions, done once per column and row.
-  ray_x_.resize(size_t(W));
-  ray_y_.resize(size_t(H));
+  // Camera::backproject's per-pixel divisions (and undistortion), done once.
+  std::vector<float> column_ray(static_cast<size_t>(W)), row_ray(static_cast<size_t>(H));
   for (int u = 0; u < W; ++u)
-    ray_x_[size_t(u)] = float((float(u * stride) - camera_.cx) / camera_.fx);
+    column_ray[size_t(u)] = float((float(u * stride) - camera_.cx) / camera_.fx);
   for (int v = 0; v < H; ++v)
-    ray_y_[size_t(v)] = float((float(v * stride) - camera_.cy) / camera_.fy);
+    row_ray[size_t(v)] = float((float(v * stride) - camera_.cy) / camera_.fy);
+  expandRays(camera_.distortion, column_ray, row_ray, &ray_x_, &ray_y_);
   rot_ = std::make_unique<RotationState>(
       config_, (camera_.width / config_.normal_stride) * (camera_.height / config_.normal_stride));
   trans_ = std::make_unique<TranslationState>(config_);
@@ -154,14 +154,13 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
   for (int v = 0; v < H; ++v) {
     const float* depth_row = &frame.depth.data[size_t(v * stride) * size_t(camera_.width)];
     const uint8_t* gray_row = &frame.gray.data[size_t(v * stride) * size_t(camera_.width)];
-    const float ry = ray_y_[size_t(v)];
     for (int u = 0; u < W; ++u) {
       float z = depth_row[u * stride];
       if (!(z >= config_.min_depth_m && z <= config_.max_depth_m)) z = 0.f;
       valid += z > 0.f;
       const size_t i = size_t(v) * size_t(W) + size_t(u);
-      s->cloud_x[i] = ray_x_[size_t(u)] * z;
-      s->cloud_y[i] = ry * z;
+      s->cloud_x[i] = ray_x_[i] * z;
+      s->cloud_y[i] = ray_y_[i] * z;
       s->cloud_z[i] = z;
       s->intensity[i] = float(gray_row[u * stride]) * (1.f / 255.f);
     }

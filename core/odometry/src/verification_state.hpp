@@ -8,14 +8,7 @@ namespace nidevo {
 
 struct Odometry::VerificationState {
   VerificationState(const OdometryConfig& c, const Camera& camera)
-      : params(alignmentParams(c)), map_camera(pinholeMapCamera(camera, c.normal_stride)) {}
-  // The normal map back-projects through the pinhole (no undistortion yet), so the check must
-  // project through the same model: mixing the two misplaces border points by pixels.
-  static Camera pinholeMapCamera(const Camera& camera, int stride) {
-    Camera c = camera.subsampled(stride);
-    c.distortion = Distortion{};
-    return c;
-  }
+      : params(alignmentParams(c)), map_camera(camera.subsampled(c.normal_stride)) {}
   const AlignmentParams params;
   const Camera map_camera;
   bool has_reference = false;

@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 namespace nidevo {
 
@@ -25,7 +26,8 @@ struct Camera {
   int width = 640;
   int height = 480;
   double depth_scale = 5000.0;  // raw units per metre for 16-bit depth
-  // The odometry does not undistort yet: it uses the pinhole model. The renderer applies this.
+  // Depth is registered to the (distorted) colour image; the odometry back-projects every pixel
+  // through per-pixel undistorted rays (expandRays), the renderer distorts.
   Distortion distortion;
 
   // Empty when valid, otherwise a message naming the bad field.
@@ -42,5 +44,12 @@ struct Camera {
   // Intrinsics of the image subsampled by `factor` (pixel (u,v) -> (factor*u, factor*v)).
   Camera subsampled(int factor) const;
 };
+
+// Per-pixel normalised rays (row-major, column_ray.size() x row_ray.size()) of a grid whose pixel
+// (u, v) has the distorted ray (column_ray[u], row_ray[v]); undistorted unless `d` is none, when
+// they are the separable values exactly.
+void expandRays(const Distortion& d, const std::vector<float>& column_ray,
+                const std::vector<float>& row_ray, std::vector<float>* ray_x,
+                std::vector<float>* ray_y);
 
 }  // namespace nidevo

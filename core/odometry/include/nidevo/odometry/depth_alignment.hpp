@@ -27,7 +27,7 @@ void sampleSurface(const NormalMap& map, const std::vector<float>& intensity, in
                    SurfaceSample* out);
 
 struct AlignmentParams {
-  int iterations = 4;            // Gauss-Newton steps; 0: evaluate the hypothesis only
+  int iterations = 10;           // Gauss-Newton steps; 0: evaluate the hypothesis only
   float max_distance_m = 0.08f;  // association gate on the point-to-plane residual
   float inlier_m = 0.02f;        // a residual below this (plus inlier_per_m * depth) is an inlier
   float inlier_per_m = 0.01f;    // depth noise grows with range

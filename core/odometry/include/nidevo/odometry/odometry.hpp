@@ -136,7 +136,7 @@ class Odometry {
   std::unique_ptr<TranslationState> trans_;
   std::unique_ptr<VerificationState> verify_;
   std::vector<float> point_weight_;   // per projection point, fades contrast at the border
-  std::vector<float> ray_x_, ray_y_;  // projection cloud: (u - cx) / fx per column, per row
+  std::vector<float> ray_x_, ray_y_;  // projection cloud: per-pixel undistorted rays
   FrameState own_state_;
   uint64_t next_index_ = 0;
 };

@@ -71,7 +71,7 @@ struct OdometryConfig {
   // Verification (depth_alignment.hpp): the full pose, checked against a reference frame (the
   // last frame that renewed it) and refined along the directions the geometry fixes.
   int verify_sample_step = 4;          // every n-th smooth normal-map pixel of the reference
-  int align_iterations = 4;            // 0: the method's pose is checked, never changed
+  int align_iterations = 10;           // 0: the method's pose is checked, never changed
   float align_max_distance_m = 0.08f;  // association gate
   float align_inlier_m = 0.02f;  // inlier residual, plus align_inlier_per_m per metre of depth
   float align_inlier_per_m = 0.01f;
