@@ -94,6 +94,15 @@ std::unique_ptr<Session> Client::open(const SessionOptions& options, ResponseCal
   camera->set_cy(options.camera.cy);
   camera->set_width(uint32_t(options.camera.width));
   camera->set_height(uint32_t(options.camera.height));
+  if (!options.camera.distortion.none()) {
+    const nidevo::Distortion& d = options.camera.distortion;
+    auto* lens = camera->mutable_distortion();
+    lens->set_k1(d.k1);
+    lens->set_k2(d.k2);
+    lens->set_p1(d.p1);
+    lens->set_p2(d.p2);
+    lens->set_k3(d.k3);
+  }
   config->set_color_encoding(options.color_encoding);
   config->set_depth_encoding(options.depth_encoding);
   config->set_depth_scale(options.camera.depth_scale);

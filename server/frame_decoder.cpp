@@ -38,6 +38,8 @@ Camera cameraOf(const v1::SessionConfig& config) {
   camera.cy = c.cy();
   camera.width = int(c.width());
   camera.height = int(c.height());
+  const v1::LensDistortion& d = c.distortion();
+  camera.distortion = {d.k1(), d.k2(), d.p1(), d.p2(), d.k3()};
   camera.depth_scale = config.depth_scale() > 0 ? config.depth_scale() : 1.0;  // unused for f32
   return camera;
 }

@@ -22,7 +22,8 @@ from nidevo.v1 import odometry_pb2_grpc as pb_grpc
 
 
 def read_camera(folder):
-    """camera.txt: one 'key value' per line (fx fy cx cy width height depth_scale)."""
+    """camera.txt: one 'key value' per line (fx fy cx cy width height depth_scale, and
+    optionally the lens distortion k1 k2 p1 p2 k3)."""
     camera = {}
     with open(os.path.join(folder, "camera.txt")) as f:
         for number, line in enumerate(f, 1):
@@ -51,9 +52,11 @@ def read_associations(folder):
 
 def requests(camera, frames):
     config = pb.SessionConfig(
-        camera=pb.CameraIntrinsics(fx=camera["fx"], fy=camera["fy"], cx=camera["cx"],
-                                   cy=camera["cy"], width=int(camera["width"]),
-                                   height=int(camera["height"])),
+        camera=pb.CameraIntrinsics(
+            fx=camera["fx"], fy=camera["fy"], cx=camera["cx"], cy=camera["cy"],
+            width=int(camera["width"]), height=int(camera["height"]),
+            distortion=pb.LensDistortion(**{k: camera.get(k, 0.0)
+                                            for k in ("k1", "k2", "p1", "p2", "k3")})),
         color_encoding=pb.COLOR_ENCODING_PNG,
         depth_encoding=pb.DEPTH_ENCODING_PNG16,
         depth_scale=camera["depth_scale"],

@@ -134,6 +134,11 @@ TEST(Service, MalformedSessionConfigsEndWithInvalidArgumentNamingTheField) {
       {"zero width",
        [](v1::TrackRequest* r) { r->mutable_config()->mutable_camera()->set_width(0); },
        "config.camera.width"},
+      {"absurd distortion",
+       [](v1::TrackRequest* r) {
+         r->mutable_config()->mutable_camera()->mutable_distortion()->set_k1(50);
+       },
+       "distortion"},
       {"unknown colour encoding",
        [](v1::TrackRequest* r) {
          r->mutable_config()->set_color_encoding(static_cast<v1::ColorEncoding>(42));

@@ -137,5 +137,18 @@ TEST_F(DepthAlignmentTest, DirectionsTheGeometryLeavesFreeKeepTheHypothesis) {
               (hypothesis.translation() - hypothesis.translation().dot(n) * n).norm(), 1e-3);
 }
 
+TEST_F(DepthAlignmentTest, APlantedTranslationIsSeenByTheGreyValuesAndUndone) {
+  const Isometry3d truth = motion(0.0, {0, 1, 0}, {0.01, 0, 0.01});
+  const AlignmentResult right = alignTo(truth, truth, 0);
+  EXPECT_GT(right.ncc, 0.95);
+  for (const Eigen::Vector3d& shift : {Eigen::Vector3d(0.04, 0, 0), Eigen::Vector3d(0, 0.04, 0)}) {
+    const Isometry3d planted = truth * motion(0, {0, 1, 0}, shift);
+    EXPECT_LT(alignTo(truth, planted, 0).ncc, right.ncc - 0.02) << shift.transpose();
+    const AlignmentResult refined = alignTo(truth, planted, 10);
+    EXPECT_LT((truth.inverse() * refined.T_ref_cur).translation().norm(), 0.005)
+        << shift.transpose();
+  }
+}
+
 }  // namespace
 }  // namespace nidevo

@@ -77,6 +77,9 @@ std::string OdometryConfig::validate() const {
   if (!in(verify_max_rms_m, 0, 10)) return "verify_max_rms_m must be in [0, 10]";
   if (!in(verify_min_ncc, -1, 1)) return "verify_min_ncc must be in [-1, 1]";
   if (!in(verify_texture_std, 0, 1)) return "verify_texture_std must be in [0, 1]";
+  if (!in(prior_translation_m, 1e-4, 10)) return "prior_translation_m must be in [1e-4, 10]";
+  if (!in(prior_rotation_rad, 1e-4, 3.2)) return "prior_rotation_rad must be in [1e-4, 3.2]";
+  if (!in(hypothesis_tie, 0, 1)) return "hypothesis_tie must be in [0, 1]";
   if (!in(reference_min_overlap, 0, 1)) return "reference_min_overlap must be in [0, 1]";
   if (reference_max_frames < 1) return "reference_max_frames must be at least 1";
   if (!in(min_valid_depth_fraction, 0, 1)) return "min_valid_depth_fraction must be in [0, 1]";

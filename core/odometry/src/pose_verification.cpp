@@ -35,6 +35,18 @@ double score(const AlignmentResult& a, const OdometryConfig& c) {
   return a.inliers * (1.0 + 0.5 * ncc);
 }
 
+// Motion between two poses in units of the prior: translation over prior_translation_m plus
+// rotation over prior_rotation_rad.
+double distance(const Isometry3d& a, const Isometry3d& b, const OdometryConfig& c) {
+  const Isometry3d d = a.inverse() * b;
+  return d.translation().norm() / c.prior_translation_m +
+         Eigen::AngleAxisd(d.rotation()).angle() / c.prior_rotation_rad;
+}
+
+bool farApart(const Isometry3d& a, const Isometry3d& b, const OdometryConfig& c) {
+  return distance(a, b, c) > 1.0;
+}
+
 PoseVerification summary(const AlignmentResult& a, const char* hypothesis, bool passed) {
   PoseVerification v;
   v.hypothesis = hypothesis;
@@ -87,23 +99,46 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
                                    v.T_out_ref.inverse() * v.motion.predict(),
                                    v.T_out_ref.inverse() * v.motion.last()};
   const char* const names[] = {"method", "prediction", "last pose"};
-  AlignmentResult best;
-  Verdict verdict;
-  const char* hypothesis = "";
+  const Isometry3d& predicted = hypotheses[1];
+  AlignmentResult results[3];
+  Verdict verdicts[3];
+  int tried = 0;
   for (int h = 0; h < 3; ++h) {
-    const AlignmentResult a = v.aligner.align(v.reference, s.normals, s.map_intensity, v.map_camera,
-                                              hypotheses[h], v.params);
-    const Verdict d = judge(a, config_);
-    // The best fit wins, ties to the earlier (preferring the method on near-ties measured
-    // worse on the real clip: its one-plane rotation is the weaker start).
-    if (h == 0 || (d.passed && !verdict.passed) ||
-        (d.passed == verdict.passed && score(a, config_) > score(best, config_))) {
-      best = a;
-      verdict = d;
-      hypothesis = names[h];
-    }
-    if (verdict.passed && method_problem == nullptr) break;
+    results[h] = v.aligner.align(v.reference, s.normals, s.map_intensity, v.map_camera,
+                                 hypotheses[h], v.params);
+    verdicts[h] = judge(results[h], config_);
+    tried = h + 1;
+    // The common path: the method's pose passes, unhurt, near the prediction.
+    if (h == 0 && verdicts[0].passed && method_problem == nullptr &&
+        !farApart(results[0].T_ref_cur, predicted, config_))
+      break;
   }
+  // The best fit wins. Fits within hypothesis_tie of each other are a tie: the one nearer the
+  // prediction wins it (a periodic texture fits as well one period away), and if the tied poses
+  // are far apart the frame is ambiguous.
+  int chosen = 0;
+  for (int h = 1; h < tried; ++h) {
+    const bool passes = verdicts[h].passed, best_passes = verdicts[chosen].passed;
+    if (passes != best_passes) {
+      if (passes) chosen = h;
+      continue;
+    }
+    const double sh = score(results[h], config_), sb = score(results[chosen], config_);
+    const bool tie = std::abs(sh - sb) <= config_.hypothesis_tie * std::max(sh, sb);
+    if ((!tie && sh > sb) || (tie && distance(results[h].T_ref_cur, predicted, config_) <
+                                         distance(results[chosen].T_ref_cur, predicted, config_)))
+      chosen = h;
+  }
+  bool ambiguous = false;
+  for (int h = 0; h < tried; ++h) {
+    if (h == chosen || !verdicts[h].passed || !verdicts[chosen].passed) continue;
+    const double sh = score(results[h], config_), sc = score(results[chosen], config_);
+    ambiguous |= std::abs(sh - sc) <= config_.hypothesis_tie * std::max(sh, sc) &&
+                 farApart(results[h].T_ref_cur, results[chosen].T_ref_cur, config_);
+  }
+  AlignmentResult best = results[chosen];
+  Verdict verdict = verdicts[chosen];
+  const char* hypothesis = names[chosen];
   if (best.overlapFraction() < config_.verify_min_overlap) {
     // No hypothesis keeps the reference in view: nothing was measured, so nothing is moved.
     best.T_ref_cur = hypotheses[1];
@@ -122,6 +157,9 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   if (!verdict.passed) {
     out->state = TrackingState::kDegraded;
     out->reason = verdict.reason;
+  } else if (ambiguous) {
+    out->state = TrackingState::kDegraded;
+    out->reason = "two poses fit equally (a periodic pattern?); the one nearer the prediction kept";
   } else if (!free_direction_trusted) {
     out->state = TrackingState::kDegraded;
     out->reason = method_problem ? method_problem : "geometry leaves a direction unverified";

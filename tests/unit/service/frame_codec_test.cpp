@@ -153,5 +153,24 @@ TEST(FrameCodec, SessionConfigValidationNamesTheField) {
   EXPECT_EQ(server::FrameDecoder::validate(f32), "");
 }
 
+TEST(FrameCodec, TheLensDistortionReachesTheSessionCamera) {
+  v1::SessionConfig config =
+      configFor(64, 48, {v1::COLOR_ENCODING_GRAY8, v1::DEPTH_ENCODING_FLOAT32});
+  EXPECT_TRUE(server::FrameDecoder(config).camera().distortion.none());
+  auto* lens = config.mutable_camera()->mutable_distortion();
+  lens->set_k1(0.2624);
+  lens->set_k2(-0.9531);
+  lens->set_p1(-0.0054);
+  lens->set_p2(0.0026);
+  lens->set_k3(1.1633);
+  ASSERT_EQ(server::FrameDecoder::validate(config), "");
+  const Distortion d = server::FrameDecoder(config).camera().distortion;
+  EXPECT_EQ(d.k1, 0.2624);
+  EXPECT_EQ(d.k2, -0.9531);
+  EXPECT_EQ(d.p1, -0.0054);
+  EXPECT_EQ(d.p2, 0.0026);
+  EXPECT_EQ(d.k3, 1.1633);
+}
+
 }  // namespace
 }  // namespace nidevo

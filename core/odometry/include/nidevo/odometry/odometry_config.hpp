@@ -81,8 +81,13 @@ struct OdometryConfig {
   float verify_min_inliers = 0.7f;        // of the associated points
   float verify_min_overlap = 0.3f;        // of the sample landing on the current surface
   float verify_max_rms_m = 0.03f;
-  float verify_min_ncc = 0.3f;         // grey-value agreement, where the reference has texture
-  float verify_texture_std = 0.03f;    // reference grey std below which the NCC is not asked
+  float verify_min_ncc = 0.3f;       // grey-value agreement, where the reference has texture
+  float verify_texture_std = 0.03f;  // reference grey std below which the NCC is not asked
+  // Motion prior: a verified pose this far (together) from the prediction has the prediction
+  // tried too; fits within hypothesis_tie (relative) are a tie, won by the pose nearer it.
+  float prior_translation_m = 0.05f;
+  float prior_rotation_rad = 0.05f;
+  float hypothesis_tie = 0.01f;
   float reference_min_overlap = 0.8f;  // renew the reference when less of it is seen
   int reference_max_frames = 15;
 
