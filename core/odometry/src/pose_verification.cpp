@@ -113,9 +113,9 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
         !farApart(results[0].T_ref_cur, predicted, config_))
       break;
   }
-  // The best fit wins. Fits within hypothesis_tie of each other are a tie: the one nearer the
-  // prediction wins it (a periodic texture fits as well one period away), and if the tied poses
-  // are far apart the frame is ambiguous.
+  // The best fit wins. Fits within hypothesis_tie of each other at poses far apart are a tie:
+  // the one nearer the prediction wins it (a periodic texture fits as well one period away),
+  // and the frame is ambiguous.
   int chosen = 0;
   for (int h = 1; h < tried; ++h) {
     const bool passes = verdicts[h].passed, best_passes = verdicts[chosen].passed;
@@ -124,9 +124,13 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
       continue;
     }
     const double sh = score(results[h], config_), sb = score(results[chosen], config_);
-    const bool tie = std::abs(sh - sb) <= config_.hypothesis_tie * std::max(sh, sb);
-    if ((!tie && sh > sb) || (tie && distance(results[h].T_ref_cur, predicted, config_) <
-                                         distance(results[chosen].T_ref_cur, predicted, config_)))
+    // Within a tie, poses close together are one solution (the better converged wins); poses
+    // far apart are distinct solutions, and the prediction decides.
+    const bool distinct_tie = std::abs(sh - sb) <= config_.hypothesis_tie * std::max(sh, sb) &&
+                              farApart(results[h].T_ref_cur, results[chosen].T_ref_cur, config_);
+    if ((!distinct_tie && sh > sb) ||
+        (distinct_tie && distance(results[h].T_ref_cur, predicted, config_) <
+                             distance(results[chosen].T_ref_cur, predicted, config_)))
       chosen = h;
   }
   bool ambiguous = false;

@@ -87,7 +87,7 @@ struct OdometryConfig {
   // tried too; fits within hypothesis_tie (relative) are a tie, won by the pose nearer it.
   float prior_translation_m = 0.05f;
   float prior_rotation_rad = 0.05f;
-  float hypothesis_tie = 0.01f;
+  float hypothesis_tie = 0.02f;
   float reference_min_overlap = 0.8f;  // renew the reference when less of it is seen
   int reference_max_frames = 15;
 
