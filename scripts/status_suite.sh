@@ -3,10 +3,11 @@
 # scripts/stress_suite.sh) and on the real clip, one per-frame CSV each, then prints per sequence
 # the ATE, the OK share and the silent failures, and the per-status error table over the suite
 # and over the real clip. Extra arguments go to nidevo-run (e.g. --align_photometric_weight 0).
-# Usage: scripts/status_suite.sh [nidevo-run flags...]
+# Usage: scripts/status_suite.sh [nidevo-run flags...]   (NIDEVO_STATUS_OUT: CSV folder,
+# default build/status)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=build/status
+out=${NIDEVO_STATUS_OUT:-build/status}
 mkdir -p "$out"
 real=../shared/data/tum_fr1_rpy_first250
 printf '%-12s %8s %8s %7s\n' sequence "ATE m" "OK" silent
