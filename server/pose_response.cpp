@@ -54,6 +54,17 @@ void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose, v1::Trac
   out->set_rotation_source(toProto(pose.rotation_source));
   out->set_rotation_keyframe(pose.rotation_keyframe);
   out->set_translation_keyframe(pose.translation_keyframe);
+  const PoseVerification& v = pose.verification;
+  if (v.hypothesis[0] != '\0') {
+    auto* check = out->mutable_check();
+    check->set_hypothesis(v.hypothesis);
+    check->set_passed(v.passed);
+    check->set_inlier_fraction(v.inlier_fraction);
+    check->set_overlap_fraction(v.overlap_fraction);
+    check->set_residual_rms_m(v.residual_rms_m);
+    check->set_ncc(v.ncc);
+    check->set_constrained_directions(v.constrained_directions);
+  }
   auto* times = out->mutable_timings();
   times->set_normals(pose.times.normals_s);
   times->set_rotation(pose.times.rotation_s);

@@ -64,6 +64,14 @@ TEST(Service, PosesEqualTheOfflinePipeline) {
     for (const auto& r : result.responses) {
       EXPECT_GT(r.timings().total(), 0);
       EXPECT_GE(r.timings().total(), r.timings().normals() + r.timings().translation());
+      // Every frame after the first carries the pose check that decided its status.
+      if (r.sequence() == 0) continue;
+      ASSERT_TRUE(r.has_check()) << r.sequence();
+      EXPECT_FALSE(r.check().hypothesis().empty());
+      if (r.status() == v1::FRAME_STATUS_OK) {
+        EXPECT_TRUE(r.check().passed()) << r.sequence();
+        EXPECT_GT(r.check().inlier_fraction(), 0.5) << r.sequence();
+      }
     }
   }
   (void)offline;
