@@ -74,6 +74,9 @@ bool greyAndGradient(const std::vector<float>& image, int width, int height, con
   return true;
 }
 
+// Huber weight of residual r at scale k, so that outliers pull little.
+double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
+
 }  // namespace
 
 // One residual r with the model's derivative direction d (a normal, or a grey gradient): the
@@ -90,7 +93,8 @@ void DepthAligner::addRow(const Vector3d& p, const Vector3d& d, double r, double
 void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
                             const std::vector<float>& cur_intensity, const Camera& cam,
                             const Isometry3d& T_cur_ref, const AlignmentParams& prm,
-                            double depth_scale, bool build_system, AlignmentResult* res) {
+                            double depth_scale, bool build_system, bool photometric,
+                            AlignmentResult* res) {
   const Matrix3d R = T_cur_ref.linear();
   const Vector3d t = T_cur_ref.translation();
   if (build_system) {
@@ -121,19 +125,15 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
       sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
     }
     if (!build_system) continue;
-    // Huber weight (scale: the inlier threshold), so that the gate's outliers pull little.
-    const double k = prm.inlier_m, w = std::abs(r) <= k ? 1.0 : k / std::abs(r);
-    addRow(p, n, r, w, depth_scale);
+    addRow(p, n, r, huberWeight(r, prm.inlier_m), depth_scale);  // scale: the inlier threshold
     ++system_points_;
-    if (use_photometric_) {
+    if (photometric) {
       Eigen::Vector3d g;
       double grey;
       if (greyAndGradient(cur_intensity, cur.width, cur.height, cam, p, uf, vf, &grey, &g)) {
         const double lambda = prm.photometric_weight;
         const double rg = gain_ * ref.intensity[i] + bias_ - grey;
-        const double kg = prm.photometric_huber;
-        const double wg = std::abs(rg) <= kg ? 1.0 : kg / std::abs(rg);
-        addRow(p, lambda * g, lambda * rg, wg, depth_scale);
+        addRow(p, lambda * g, lambda * rg, huberWeight(rg, prm.photometric_huber), depth_scale);
       }
     }
   }
@@ -158,12 +158,13 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
 
 void DepthAligner::gaussNewton(const SurfaceSample& ref, const NormalMap& cur,
                                const std::vector<float>& cur_intensity, const Camera& map_camera,
-                               const AlignmentParams& prm, double depth_scale,
+                               const AlignmentParams& prm, double depth_scale, bool photometric,
                                Isometry3d* T_cur_ref_io, AlignmentResult* result) {
   Isometry3d& T_cur_ref = *T_cur_ref_io;
   AlignmentResult& res = *result;
   for (int it = 0; it < prm.iterations; ++it) {
-    evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, true, &res);
+    evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, true, photometric,
+             &res);
     // Too few points for six unknowns, or a step no small-motion linearisation can take: the
     // hypothesis is left as it is (and judged as it is).
     if (system_points_ < std::max(12, int(ref.size() / 20))) return;
@@ -208,15 +209,10 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& c
   depth_scale = ref.size() ? std::max(0.1, depth_scale / double(ref.size())) : 1.0;
   // Depth alone first; where it leaves a direction free, again with the grey values, so that
   // texture fixes what geometry cannot (and costs nothing where geometry suffices).
-  const bool photometric = use_photometric_;
-  use_photometric_ = false;
-  gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, &T_cur_ref, &res);
-  if (res.constrained < 6 && prm.photometric_weight > 0 && photometric) {
-    use_photometric_ = true;
-    gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, &T_cur_ref, &res);
-  }
-  use_photometric_ = photometric;
-  evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, false, &res);
+  gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, false, &T_cur_ref, &res);
+  if (res.constrained < 6 && prm.photometric_weight > 0)
+    gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, true, &T_cur_ref, &res);
+  evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, false, false, &res);
   res.T_ref_cur = T_cur_ref.inverse();
   return res;
 }

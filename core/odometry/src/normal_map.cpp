@@ -166,11 +166,10 @@ void NormalMapBuilder::updateRays(const Camera& cam, int W, int H) {
                         cam.distortion.k3};
   if (std::equal(std::begin(key), std::end(key), rays_key_.begin(), rays_key_.end())) return;
   rays_key_.assign(std::begin(key), std::end(key));
-  column_ray_.resize(size_t(W));
-  row_ray_.resize(size_t(H));
-  for (int u = 0; u < W; ++u) column_ray_[size_t(u)] = float((float(u) - cam.cx) / cam.fx);
-  for (int v = 0; v < H; ++v) row_ray_[size_t(v)] = float((float(v) - cam.cy) / cam.fy);
-  expandRays(cam.distortion, column_ray_, row_ray_, &ray_x_, &ray_y_);
+  std::vector<float> column_ray(static_cast<size_t>(W)), row_ray(static_cast<size_t>(H));
+  for (int u = 0; u < W; ++u) column_ray[size_t(u)] = float((float(u) - cam.cx) / cam.fx);
+  for (int v = 0; v < H; ++v) row_ray[size_t(v)] = float((float(v) - cam.cy) / cam.fy);
+  expandRays(cam.distortion, column_ray, row_ray, &ray_x_, &ray_y_);
 }
 
 // Back-projection through the per-pixel rays (Camera::backproject's divisions done once).

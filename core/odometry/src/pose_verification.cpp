@@ -47,6 +47,14 @@ bool farApart(const Isometry3d& a, const Isometry3d& b, const OdometryConfig& c)
   return distance(a, b, c) > 1.0;
 }
 
+// Two fits within hypothesis_tie of each other at poses far apart: distinct solutions that the
+// data cannot tell apart (a periodic texture fits as well one period away).
+bool distinctTie(const AlignmentResult& a, const AlignmentResult& b, const OdometryConfig& c) {
+  const double sa = score(a, c), sb = score(b, c);
+  return std::abs(sa - sb) <= c.hypothesis_tie * std::max(sa, sb) &&
+         farApart(a.T_ref_cur, b.T_ref_cur, c);
+}
+
 PoseVerification summary(const AlignmentResult& a, const char* hypothesis, bool passed) {
   PoseVerification v;
   v.hypothesis = hypothesis;
@@ -123,22 +131,18 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
       if (passes) chosen = h;
       continue;
     }
-    const double sh = score(results[h], config_), sb = score(results[chosen], config_);
     // Within a tie, poses close together are one solution (the better converged wins); poses
     // far apart are distinct solutions, and the prediction decides.
-    const bool distinct_tie = std::abs(sh - sb) <= config_.hypothesis_tie * std::max(sh, sb) &&
-                              farApart(results[h].T_ref_cur, results[chosen].T_ref_cur, config_);
-    if ((!distinct_tie && sh > sb) ||
-        (distinct_tie && distance(results[h].T_ref_cur, predicted, config_) <
-                             distance(results[chosen].T_ref_cur, predicted, config_)))
+    if (distinctTie(results[h], results[chosen], config_)
+            ? distance(results[h].T_ref_cur, predicted, config_) <
+                  distance(results[chosen].T_ref_cur, predicted, config_)
+            : score(results[h], config_) > score(results[chosen], config_))
       chosen = h;
   }
   bool ambiguous = false;
   for (int h = 0; h < tried; ++h) {
     if (h == chosen || !verdicts[h].passed || !verdicts[chosen].passed) continue;
-    const double sh = score(results[h], config_), sc = score(results[chosen], config_);
-    ambiguous |= std::abs(sh - sc) <= config_.hypothesis_tie * std::max(sh, sc) &&
-                 farApart(results[h].T_ref_cur, results[chosen].T_ref_cur, config_);
+    ambiguous |= distinctTie(results[h], results[chosen], config_);
   }
   AlignmentResult best = results[chosen];
   Verdict verdict = verdicts[chosen];

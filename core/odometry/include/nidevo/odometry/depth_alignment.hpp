@@ -67,26 +67,25 @@ class DepthAligner {
                         const Eigen::Isometry3d& T_ref_cur, const AlignmentParams& params);
 
  private:
-  // One pass over the sample at T_cur_ref: fills the normal equations (when asked) and the
-  // result's counts, RMS and NCC.
+  // One pass over the sample at T_cur_ref: fills the normal equations (when asked; with the
+  // grey-value rows when `photometric`) and the result's counts, RMS and NCC.
   void evaluate(const SurfaceSample& ref, const NormalMap& cur,
                 const std::vector<float>& cur_intensity, const Camera& map_camera,
                 const Eigen::Isometry3d& T_cur_ref, const AlignmentParams& params,
-                double depth_scale, bool build_system, AlignmentResult* result);
+                double depth_scale, bool build_system, bool photometric, AlignmentResult* result);
 
   // Up to params.iterations steps from *T_cur_ref, updated in place.
   void gaussNewton(const SurfaceSample& ref, const NormalMap& cur,
                    const std::vector<float>& cur_intensity, const Camera& map_camera,
-                   const AlignmentParams& params, double depth_scale, Eigen::Isometry3d* T_cur_ref,
-                   AlignmentResult* result);
+                   const AlignmentParams& params, double depth_scale, bool photometric,
+                   Eigen::Isometry3d* T_cur_ref, AlignmentResult* result);
   void addRow(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double r, double w,
               double depth_scale);
 
   Eigen::Matrix<double, 6, 6> H_;
   Eigen::Matrix<double, 6, 1> b_;
   int system_points_ = 0;
-  double gain_ = 1.0, bias_ = 0.0;
-  bool use_photometric_ = true;  // exposure change, estimated on the previous pass
+  double gain_ = 1.0, bias_ = 0.0;  // exposure change, estimated on the previous pass
 };
 
 }  // namespace nidevo

@@ -45,7 +45,6 @@ class NormalMapBuilder {
   std::vector<uint8_t> has_normal_;  // Eq. 4 gave a normal
   std::vector<float> hx_, hy_, hz_;  // horizontal box sums
   std::vector<float> sum_x_, sum_y_, sum_z_;  // vertical running sums, one per column
-  std::vector<float> column_ray_, row_ray_;   // (u - cx) / fx per column, (v - cy) / fy per row
   std::vector<float> ray_x_, ray_y_;          // per pixel, undistorted
   std::vector<double> rays_key_;              // the camera they were built for
 };
