@@ -55,6 +55,8 @@ void OdometryStages::observe(const FrameJob& job, const PoseEstimate& pose, doub
   m.stage(Stage::kRotation, pose.times.rotation_s);
   m.stage(Stage::kTranslation, pose.times.translation_s);
   if (pose.state != TrackingState::kLost) m.psr(pose.psr);
+  m.poseCheck(pose.verification.hypothesis, pose.verification.passed,
+              pose.verification.residual_rms_m);
   if (pose.rotation_keyframe) m.rotationKeyframe();
   if (pose.translation_keyframe) m.translationKeyframe();
 }

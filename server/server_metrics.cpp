@@ -2,6 +2,8 @@
 
 #include <grpcpp/support/status_code_enum.h>
 
+#include <cstring>
+
 #include "absl/status/status.h"
 
 namespace nidevo::server {
@@ -52,6 +54,23 @@ ServerMetrics::ServerMetrics(const std::string& version)
               .Register(*registry_)
               .Add({}, prometheus::Histogram::BucketBoundaries{5, 8, 10, 15, 20, 30, 50, 75, 100,
                                                                150, 200, 300});
+  auto& checks = BuildCounter()
+                     .Name("nidevo_pose_checks_total")
+                     .Help(
+                         "Pose checks of tracked frames, by the hypothesis kept (method, "
+                         "prediction, last_pose) and the verdict (passed, failed)")
+                     .Register(*registry_);
+  const char* hypotheses[] = {"method", "prediction", "last_pose"};
+  for (size_t h = 0; h < checks_.size(); ++h)
+    for (size_t passed = 0; passed < 2; ++passed)
+      checks_[h][passed] =
+          &checks.Add({{"hypothesis", hypotheses[h]}, {"result", passed ? "passed" : "failed"}});
+  check_residual_ = &BuildHistogram()
+                         .Name("nidevo_pose_check_residual_meters")
+                         .Help("Point-to-plane RMS of the checked pose against the reference frame")
+                         .Register(*registry_)
+                         .Add({}, prometheus::Histogram::BucketBoundaries{
+                                      0.002, 0.004, 0.006, 0.008, 0.01, 0.015, 0.02, 0.03, 0.05});
   auto& keyframes = BuildCounter()
                         .Name("nidevo_keyframes_total")
                         .Help("Keyframes made, by kind (rotation, translation)")
@@ -82,6 +101,21 @@ ServerMetrics::ServerMetrics(const std::string& version)
       .Register(*registry_)
       .Add({{"version", version}, {"api", "nidevo.v1"}})
       .Set(1);
+}
+
+void ServerMetrics::poseCheck(const char* hypothesis, bool passed, double residual_rms_m) {
+  size_t h = 0;
+  if (std::strcmp(hypothesis, "method") == 0) {
+    h = 0;
+  } else if (std::strcmp(hypothesis, "prediction") == 0) {
+    h = 1;
+  } else if (std::strcmp(hypothesis, "last pose") == 0) {
+    h = 2;
+  } else {
+    return;  // not checked (first frame, no depth)
+  }
+  checks_[h][passed ? 1 : 0]->Increment();
+  check_residual_->Observe(residual_rms_m);
 }
 
 void ServerMetrics::sessionEnded(int code) {

@@ -26,6 +26,9 @@ class ServerMetrics {
   void frameLatency(double seconds) { frame_latency_->Observe(seconds); }
   void stage(Stage s, double seconds) { stages_[size_t(s)]->Observe(seconds); }
   void psr(double value) { psr_->Observe(value); }
+  // The pose check of a frame: `hypothesis` as in PoseVerification ("method", "prediction",
+  // "last pose"; anything else is not counted), whether it passed, its surface residual.
+  void poseCheck(const char* hypothesis, bool passed, double residual_rms_m);
   void rotationKeyframe() { rotation_keyframes_->Increment(); }
   void translationKeyframe() { translation_keyframes_->Increment(); }
   // `code` is a grpc::StatusCode value.
@@ -39,6 +42,8 @@ class ServerMetrics {
   prometheus::Histogram* frame_latency_ = nullptr;
   std::array<prometheus::Histogram*, 5> stages_{};
   prometheus::Histogram* psr_ = nullptr;
+  std::array<std::array<prometheus::Counter*, 2>, 3> checks_{};  // [hypothesis][passed]
+  prometheus::Histogram* check_residual_ = nullptr;
   prometheus::Counter* rotation_keyframes_ = nullptr;
   prometheus::Counter* translation_keyframes_ = nullptr;
   prometheus::Family<prometheus::Counter>* sessions_family_ = nullptr;

@@ -79,7 +79,7 @@ missing = sorted(used - exported)
 assert used, "the dashboard queries no nidevo metric"
 assert not missing, f"dashboard uses metrics the server does not export: {missing}"
 titles = " ".join(p["title"].lower() for p in panels)
-for topic in ["latency", "stage", "outcome", "psr", "active sessions", "dropped"]:
+for topic in ["latency", "stage", "outcome", "psr", "pose check", "active sessions", "dropped"]:
     assert topic in titles, f"no panel about {topic}"
 print(f"ok: {len(panels)} panels, {len(used)} metrics, all exported")
 PY

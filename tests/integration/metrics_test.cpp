@@ -64,6 +64,11 @@ TEST(Metrics, CountersAddUpToTheFramesSent) {
         << stage;
   EXPECT_GT(valueOf(m, "nidevo_frame_latency_seconds_sum"), 0);
   EXPECT_GE(valueOf(m, "nidevo_keyframes_total{kind=\"translation\"}"), 1);
+  // Every tracked frame but the session's first is checked; a steady office passes.
+  EXPECT_EQ(sumOf(m, "nidevo_pose_checks_total"), tracked - 1);
+  EXPECT_GE(valueOf(m, "nidevo_pose_checks_total{hypothesis=\"method\",result=\"passed\"}"),
+            tracked - 2);
+  EXPECT_EQ(valueOf(m, "nidevo_pose_check_residual_meters_count"), tracked - 1);
   EXPECT_EQ(valueOf(m, "nidevo_sessions_total{code=\"OK\"}"), 1);
   EXPECT_EQ(valueOf(m, "nidevo_active_sessions"), 0);
   EXPECT_EQ(valueOf(m, "nidevo_build_info{api=\"nidevo.v1\",version=\"" NIDEVO_VERSION "\"}"), 1);

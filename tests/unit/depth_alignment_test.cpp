@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "nidevo/odometry/odometry_config.hpp"
+#include "nidevo/odometry/pose_check.hpp"
 #include "nidevo/sim/sequence.hpp"
 
 namespace nidevo {
@@ -148,6 +149,57 @@ TEST_F(DepthAlignmentTest, APlantedTranslationIsSeenByTheGreyValuesAndUndone) {
     EXPECT_LT((truth.inverse() * refined.T_ref_cur).translation().norm(), 0.005)
         << shift.transpose();
   }
+}
+
+// A wall 2 m ahead, square to the optical axis, tiled with a period of `period` metres in x and
+// y, seen from a camera at `t` (no rotation): every pixel's grey value is that of the wall point
+// its ray meets.
+RgbdFrame tiledWall(const Camera& cam, const RgbdFrame& like, const Eigen::Vector3d& t,
+                    double period) {
+  RgbdFrame f = like;
+  std::fill(f.depth.data.begin(), f.depth.data.end(), 2.f);
+  for (int v = 0; v < cam.height; ++v) {
+    for (int u = 0; u < cam.width; ++u) {
+      const double x = (u - cam.cx) / cam.fx * 2 + t.x(), y = (v - cam.cy) / cam.fy * 2 + t.y();
+      f.gray.at(u, v) = uint8_t(128 + 50 * std::cos(2 * M_PI * x / period) +
+                                40 * std::cos(2 * M_PI * y / period));
+    }
+  }
+  return f;
+}
+
+TEST_F(DepthAlignmentTest, APlantedOnePeriodTranslationErrorIsNotCalledOk) {
+  const double period = 0.25;
+  const Eigen::Vector3d t(0.02, 0.01, 0);
+  const RgbdFrame like = seq_->renderFrame(0);
+  const MapFrame ref =
+      mapOf(tiledWall(camera_, like, Eigen::Vector3d::Zero(), period), camera_, config_);
+  const MapFrame cur = mapOf(tiledWall(camera_, like, t, period), camera_, config_);
+  SurfaceSample sample;
+  sampleSurface(ref.map, ref.intensity, config_.verify_sample_step, &sample);
+  const AlignmentParams p = alignmentParams(config_);
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  const Isometry3d truth = motion(0, {0, 1, 0}, t);
+  const Isometry3d planted = motion(0, {0, 1, 0}, t + Eigen::Vector3d(period, 0, 0));
+  const AlignmentResult right =
+      aligner_.align(sample, cur.map, cur.intensity, map_camera, truth, p);
+  const AlignmentResult wrong =
+      aligner_.align(sample, cur.map, cur.intensity, map_camera, planted, p);
+  // The wall fixes depth, tilt and pan only; the tiles fit as well one period away, so the
+  // alignment alone cannot tell the two apart.
+  EXPECT_LT(right.depth_constrained, 6);
+  EXPECT_TRUE(judgeAlignment(right, config_).passed);
+  EXPECT_TRUE(judgeAlignment(wrong, config_).passed);
+  EXPECT_NEAR((truth.inverse() * wrong.T_ref_cur).translation().x(), period, 0.01);
+  // Standing still was predicted: the true pose is near it, the planted one a period away.
+  const HypothesisOrigin method{true, true, true};
+  const Isometry3d still = Isometry3d::Identity();
+  EXPECT_TRUE(directionsTrusted(right, still, method, config_));
+  EXPECT_FALSE(directionsTrusted(wrong, still, method, config_));
+  // Had depth fixed every direction, the jump would have been measured, not guessed.
+  AlignmentResult measured = wrong;
+  measured.depth_constrained = 6;
+  EXPECT_TRUE(directionsTrusted(measured, still, method, config_));
 }
 
 }  // namespace

@@ -114,5 +114,51 @@ TEST(Kcc, TwoChannelsRecoverTheShiftOfAFeaturelessGreyImage) {
   EXPECT_EQ(m.dv, 4);
 }
 
+// A tiling of period 20 x 24 px that repeats exactly around the circular image (160 x 120), so
+// that every shift by a whole period fits exactly as well.
+std::vector<float> tiles() {
+  std::vector<float> img(size_t(kW) * kH);
+  for (int v = 0; v < kH; ++v)
+    for (int u = 0; u < kW; ++u)
+      img[size_t(v) * kW + u] =
+          float(0.5 + 0.2 * std::cos(2 * M_PI * u / 20) + 0.1 * std::sin(2 * M_PI * v / 24) +
+                0.05 * std::sin(2 * M_PI * u / 10) * std::cos(2 * M_PI * v / 24));
+  return img;
+}
+
+TEST(Kcc, APeriodicTextureShiftedByLessThanHalfAPeriodIsNotAliased) {
+  KernelCrossCorrelator kcc(kW, kH, 1, 0.2, 0.1);
+  const auto x = tiles();
+  const float* key[] = {x.data()};
+  kcc.train(key);
+  const auto z = circularShift(x, 7, -9);  // under half of the 20 x 24 period
+  const float* cur[] = {z.data()};
+  // Standing still predicted: the true shift is the nearest of the equal peaks.
+  const KccShiftPrior still{0, 0, 0.9};
+  const KccMatch m = kcc.match(cur, false, 5, &still);
+  EXPECT_EQ(m.du, 7);
+  EXPECT_EQ(m.dv, -9);
+  EXPECT_GT(m.rival_peaks, 0);  // the other periods are reported as rivals
+  // A prediction one period away picks that period: the prior, not rounding, decides.
+  const KccShiftPrior next{-12, 14, 0.9};
+  const KccMatch aliased = kcc.match(cur, false, 5, &next);
+  EXPECT_EQ(aliased.du, 7 - 20);
+  EXPECT_EQ(aliased.dv, -9 + 24);
+}
+
+TEST(Kcc, AClearlyHigherPeakWinsWhereverThePriorIs) {
+  KernelCrossCorrelator kcc(kW, kH, 1, 0.2, 0.1);
+  const auto x = texture(0, 0);
+  const float* key[] = {x.data()};
+  kcc.train(key);
+  const auto z = circularShift(x, 3, -7);
+  const float* cur[] = {z.data()};
+  const KccShiftPrior far_off{40, 30, 0.9};
+  const KccMatch m = kcc.match(cur, false, 5, &far_off);
+  EXPECT_EQ(m.du, 3);
+  EXPECT_EQ(m.dv, -7);
+  EXPECT_EQ(m.rival_peaks, 0);
+}
+
 }  // namespace
 }  // namespace nidevo

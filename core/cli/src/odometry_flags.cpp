@@ -40,6 +40,9 @@ ABSL_FLAG(int, rotation_keyframe_interval, kDefaults.rotation_keyframe_interval,
           "Renew the rotation keyframe at least every this many frames");
 ABSL_FLAG(double, psr_bound, kDefaults.psr_bound,
           "Translation keyframe renewed at or below this PSR (paper: 50)");
+ABSL_FLAG(double, kcc_prior_ratio, kDefaults.kcc_prior_ratio,
+          "KCC maxima of at least this fraction of the highest compete; the one nearest the "
+          "predicted shift wins (1: the highest only)");
 
 ABSL_FLAG(int, align_iterations, kDefaults.align_iterations,
           "Pose check: refinement steps on the constrained directions (0: the method's pose is "
@@ -82,6 +85,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.subpixel_peak = absl::GetFlag(FLAGS_subpixel);
   c.rotation_keyframe_interval = absl::GetFlag(FLAGS_rotation_keyframe_interval);
   c.psr_bound = float(absl::GetFlag(FLAGS_psr_bound));
+  c.kcc_prior_ratio = float(absl::GetFlag(FLAGS_kcc_prior_ratio));
   c.align_iterations = absl::GetFlag(FLAGS_align_iterations);
   c.align_min_eigenvalue = float(absl::GetFlag(FLAGS_align_min_eigenvalue));
   c.align_photometric_weight = float(absl::GetFlag(FLAGS_align_photometric_weight));

@@ -210,6 +210,7 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& c
   // Depth alone first; where it leaves a direction free, again with the grey values, so that
   // texture fixes what geometry cannot (and costs nothing where geometry suffices).
   gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, false, &T_cur_ref, &res);
+  res.depth_constrained = res.constrained;
   if (res.constrained < 6 && prm.photometric_weight > 0)
     gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, true, &T_cur_ref, &res);
   evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, false, false, &res);

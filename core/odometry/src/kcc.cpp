@@ -129,17 +129,18 @@ void KernelCrossCorrelator::train(const float* const* channels) {
 }
 
 KccMatch KernelCrossCorrelator::match(const float* const* channels, bool subpixel,
-                                      int psr_exclusion) {
+                                      int psr_exclusion, const KccShiftPrior* prior) {
   correlate(channels);
-  const int W = width_, H = height_;
+  const int W = width_;
   size_t best = 0;
   for (size_t i = 1; i < n_real_; ++i)
     if (response_[i] > response_[best]) best = i;
-  const int pu = int(best % size_t(W)), pv = int(best / size_t(W));
   KccMatch m;
+  if (prior) best = peakNearPrior(best, *prior, psr_exclusion, &m.rival_peaks);
+  const int pu = int(best % size_t(W)), pv = int(best / size_t(W));
   m.peak = responseAt(pu, pv);
-  m.du = pu > W / 2 ? pu - W : pu;
-  m.dv = pv > H / 2 ? pv - H : pv;
+  m.du = signedShift(pu, W);
+  m.dv = signedShift(pv, height_);
   if (subpixel) addSubpixelOffset(pu, pv, &m.du, &m.dv);
   m.psr = peakToSidelobe(pu, pv, m.peak, psr_exclusion);
   return m;
@@ -157,6 +158,46 @@ void KernelCrossCorrelator::correlate(const float* const* channels) {
   for (size_t i = 0; i < n_complex_; ++i) spectrum_[i] *= alpha_hat_[i];  // Eq. 15
   fftwf_execute_dft_c2r(static_cast<fftwf_plan>(plan_inverse_),
                         reinterpret_cast<fftwf_complex*>(spectrum_), response_);
+}
+
+bool KernelCrossCorrelator::isLocalMaximum(int u, int v) const {
+  const double r = responseAt(u, v);
+  for (int y = -1; y <= 1; ++y)
+    for (int x = -1; x <= 1; ++x)
+      if ((x || y) && responseAt(u + x, v + y) > r) return false;
+  return true;
+}
+
+// One pass over the response: only cells above the ratio are looked at closely, and those are
+// few (the tops of the strongest peaks).
+size_t KernelCrossCorrelator::peakNearPrior(size_t best, const KccShiftPrior& prior, int exclusion,
+                                            int* rivals) const {
+  const int W = width_, H = height_;
+  const float floor = float(prior.ratio) * response_[best];
+  auto distance2 = [&](int u, int v, double du, double dv) {
+    double dx = std::abs(signedShift(u, W) - du), dy = std::abs(signedShift(v, H) - dv);
+    dx = std::min(dx, W - dx), dy = std::min(dy, H - dy);  // the response is circular
+    return dx * dx + dy * dy;
+  };
+  size_t chosen = best;
+  double chosen_d2 = distance2(int(best % size_t(W)), int(best / size_t(W)), prior.du, prior.dv);
+  for (size_t i = 0; i < n_real_; ++i) {
+    if (response_[i] < floor) continue;
+    const int u = int(i % size_t(W)), v = int(i / size_t(W));
+    if (!isLocalMaximum(u, v)) continue;
+    const double d2 = distance2(u, v, prior.du, prior.dv);
+    if (d2 < chosen_d2) chosen = i, chosen_d2 = d2;
+  }
+  const int cu = int(chosen % size_t(W)), cv = int(chosen / size_t(W));
+  const double apart2 = double(exclusion) * double(exclusion);
+  *rivals = 0;
+  for (size_t i = 0; i < n_real_; ++i) {
+    if (response_[i] < floor) continue;
+    const int u = int(i % size_t(W)), v = int(i / size_t(W));
+    if (isLocalMaximum(u, v) && distance2(u, v, signedShift(cu, W), signedShift(cv, H)) > apart2)
+      ++*rivals;
+  }
+  return chosen;
 }
 
 double KernelCrossCorrelator::responseAt(int u, int v) const {

@@ -323,7 +323,10 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
   out.projection_resolution = t.resolution;
   const char* method_problem = methodProblem(*s, translation_problem);
   t.motion.update(T, method_problem == nullptr);
-  verifyPose(*s, T, method_problem, s->depth_ok && translation_problem == nullptr, &out);
+  // A KCC match with rivals nearly as high chose its peak by the prediction: not a measurement.
+  const bool translation_measured =
+      s->depth_ok && translation_problem == nullptr && out.kcc_rival_peaks == 0;
+  verifyPose(*s, T, method_problem, translation_measured, &out);
   s->times.translation_s = secondsSince(t0);
   out.times = s->times;
   return out;
@@ -341,8 +344,14 @@ const char* Odometry::matchTranslationKeyframe(const FrameState& s, const Isomet
   if (config_.kcc_use_depth) {
     channels[1] = depthChannel(t.cur, t.key_mean_depth, &t.cur_depth_channel);
   }
-  const KccMatch m = t.kcc.match(channels, config_.subpixel_peak, config_.psr_exclusion);
+  // The shift the motion model expects, in the keyframe's projection (see T_key_cur below).
+  const Eigen::Vector3d t_key_pred = (t.T_world_key.inverse() * T_pred).translation();
+  const KccShiftPrior prior{-t_key_pred.x() / t.resolution, -t_key_pred.y() / t.resolution,
+                            config_.kcc_prior_ratio};
+  const KccMatch m = t.kcc.match(channels, config_.subpixel_peak, config_.psr_exclusion,
+                                 config_.kcc_prior_ratio < 1.f ? &prior : nullptr);
   out->psr = m.psr;
+  out->kcc_rival_peaks = m.rival_peaks;
   DepthShift dz;
   if (m.psr >= config_.psr_min)
     dz = t.depth_shift.estimate(t.key, t.cur, m.du, m.dv, t.depth_params);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "nidevo/odometry/odometry.hpp"
+#include "nidevo/odometry/pose_check.hpp"
 #include "verification_state.hpp"
 
 namespace nidevo {
@@ -10,50 +11,6 @@ namespace nidevo {
 using Eigen::Isometry3d;
 
 namespace {
-
-struct Verdict {
-  bool passed = false;
-  const char* reason = "";
-};
-
-Verdict judge(const AlignmentResult& a, const OdometryConfig& c) {
-  if (a.overlapFraction() < c.verify_min_overlap)
-    return {false, "pose failed verification: too little of the reference frame in view"};
-  if (a.inlierFraction() < c.verify_min_inliers)
-    return {false, "pose failed verification: depth disagrees with the pose"};
-  if (a.rms_m > c.verify_max_rms_m)
-    return {false, "pose failed verification: surface residual too large"};
-  if (a.ref_intensity_std >= c.verify_texture_std && a.ncc < c.verify_min_ncc)
-    return {false, "pose failed verification: grey values disagree with the pose"};
-  return {true, ""};
-}
-
-// More agreeing points first; on texture, grey-value agreement breaks near-ties (a periodic
-// pattern shifted by a period fits the depth as well as the truth).
-double score(const AlignmentResult& a, const OdometryConfig& c) {
-  const double ncc = a.ref_intensity_std >= c.verify_texture_std ? std::clamp(a.ncc, 0.0, 1.0) : 0;
-  return a.inliers * (1.0 + 0.5 * ncc);
-}
-
-// Motion between two poses in units of the prior: translation over prior_translation_m plus
-// rotation over prior_rotation_rad.
-double distance(const Isometry3d& a, const Isometry3d& b, const OdometryConfig& c) {
-  const Isometry3d d = a.inverse() * b;
-  return d.translation().norm() / c.prior_translation_m +
-         Eigen::AngleAxisd(d.rotation()).angle() / c.prior_rotation_rad;
-}
-
-bool farApart(const Isometry3d& a, const Isometry3d& b, const OdometryConfig& c) {
-  return distance(a, b, c) > 1.0;
-}
-
-// Two fits within hypothesis_tie of each other at poses far apart: distinct solutions that the
-// data cannot tell apart (a periodic texture fits as well one period away).
-bool distinctTie(const AlignmentResult& a, const AlignmentResult& b, const OdometryConfig& c) {
-  const double sa = score(a, c), sb = score(b, c);
-  return std::abs(sa - sb) <= c.hypothesis_tie * std::max(sa, sb) &&
-         farApart(a.T_ref_cur, b.T_ref_cur, c);
-}
 
 PoseVerification summary(const AlignmentResult& a, const char* hypothesis, bool passed) {
   PoseVerification v;
@@ -109,12 +66,12 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   const char* const names[] = {"method", "prediction", "last pose"};
   const Isometry3d& predicted = hypotheses[1];
   AlignmentResult results[3];
-  Verdict verdicts[3];
+  CheckVerdict verdicts[3];
   int tried = 0;
   for (int h = 0; h < 3; ++h) {
     results[h] = v.aligner.align(v.reference, s.normals, s.map_intensity, v.map_camera,
                                  hypotheses[h], v.params);
-    verdicts[h] = judge(results[h], config_);
+    verdicts[h] = judgeAlignment(results[h], config_);
     tried = h + 1;
     // The common path: the method's pose passes, unhurt, near the prediction.
     if (h == 0 && verdicts[0].passed && method_problem == nullptr &&
@@ -134,9 +91,9 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     // Within a tie, poses close together are one solution (the better converged wins); poses
     // far apart are distinct solutions, and the prediction decides.
     if (distinctTie(results[h], results[chosen], config_)
-            ? distance(results[h].T_ref_cur, predicted, config_) <
-                  distance(results[chosen].T_ref_cur, predicted, config_)
-            : score(results[h], config_) > score(results[chosen], config_))
+            ? priorDistance(results[h].T_ref_cur, predicted, config_) <
+                  priorDistance(results[chosen].T_ref_cur, predicted, config_)
+            : alignmentScore(results[h], config_) > alignmentScore(results[chosen], config_))
       chosen = h;
   }
   bool ambiguous = false;
@@ -145,7 +102,7 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     ambiguous |= distinctTie(results[h], results[chosen], config_);
   }
   AlignmentResult best = results[chosen];
-  Verdict verdict = verdicts[chosen];
+  CheckVerdict verdict = verdicts[chosen];
   const char* hypothesis = names[chosen];
   if (best.overlapFraction() < config_.verify_min_overlap) {
     // No hypothesis keeps the reference in view: nothing was measured, so nothing is moved.
@@ -155,13 +112,10 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   out->T_world_cam = v.T_out_ref * best.T_ref_cur;
   out->verification = summary(best, hypothesis, verdict.passed);
   // Along a direction the geometry leaves free the pose is the hypothesis': trusted only when
-  // that is the method's own, and the method measured that kind of motion (a rotation from two
-  // planes, a translation from a confident KCC match).
-  const bool from_method = hypothesis == names[0];
-  const bool rotation_measured = s.rotation_source == RotationSource::kPlanes;
-  const bool free_direction_trusted =
-      best.constrained == 6 || (from_method && (!best.free_rotation || rotation_measured) &&
-                                (!best.free_translation || translation_measured));
+  // that is the method's own, and the method measured that kind of motion.
+  const HypothesisOrigin origin{hypothesis == names[0],
+                                s.rotation_source == RotationSource::kPlanes, translation_measured};
+  const bool free_direction_trusted = directionsTrusted(best, predicted, origin, config_);
   if (!verdict.passed) {
     out->state = TrackingState::kDegraded;
     out->reason = verdict.reason;

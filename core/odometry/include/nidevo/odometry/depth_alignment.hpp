@@ -49,6 +49,7 @@ struct AlignmentResult {
   double ncc = 0;      // normalised cross-correlation of the inliers' grey values, [-1, 1]
   double ref_intensity_std = 0;  // of the inliers' reference grey values: is there texture?
   int constrained = 0;           // directions (of 6) the geometry fixed in the last step
+  int depth_constrained = 0;     // ... that depth alone fixed (the rest needed grey values)
   // Whether a direction left free is mostly a rotation, mostly a translation.
   bool free_rotation = false;
   bool free_translation = false;

@@ -12,6 +12,19 @@ struct KccMatch {
   double dv = 0;
   double peak = 0;
   double psr = 0;  // Eq. 17, side lobe excludes (2*exclusion+1)^2 around the peak
+  // Local maxima of at least KccShiftPrior::ratio of the highest one, more than the PSR
+  // exclusion apart from the chosen peak: another shift that fits almost as well (a periodic
+  // texture's next period). 0 without a prior.
+  int rival_peaks = 0;
+};
+
+// Where the motion model expects the peak. Among the local maxima of at least `ratio` times the
+// highest response, the one nearest (du, dv) is chosen, so that a periodic texture's equal peaks
+// cannot move the pose by a whole period; a clearly higher peak still wins wherever it is.
+struct KccShiftPrior {
+  double du = 0;
+  double dv = 0;
+  double ratio = 0.9;
 };
 
 class KernelCrossCorrelator {
@@ -32,13 +45,17 @@ class KernelCrossCorrelator {
   // channels[c] points at width*height floats (row-major). Label: a delta at the origin.
   void train(const float* const* channels);
   bool trained() const { return trained_; }
-  KccMatch match(const float* const* channels, bool subpixel, int psr_exclusion);
+  KccMatch match(const float* const* channels, bool subpixel, int psr_exclusion,
+                 const KccShiftPrior* prior = nullptr);
   // The last response (width*height, peak at the shift), for tests and debugging.
   const float* response() const { return response_; }
 
  private:
   void correlate(const float* const* channels);
   double responseAt(int u, int v) const;  // wraps around, the response is circular
+  bool isLocalMaximum(int u, int v) const;
+  size_t peakNearPrior(size_t best, const KccShiftPrior& prior, int exclusion, int* rivals) const;
+  double signedShift(int p, int size) const { return p > size / 2 ? p - size : p; }
   void addSubpixelOffset(int pu, int pv, double* du, double* dv) const;
   double peakToSidelobe(int pu, int pv, double peak, int exclusion) const;
   void forward(const float* in, std::complex<float>* out);

@@ -56,6 +56,7 @@ struct PoseEstimate {
   TrackingState state = TrackingState::kOk;
   const char* reason = "";  // static text; empty when OK
   double psr = 0;
+  int kcc_rival_peaks = 0;  // other KCC maxima nearly as high (KccMatch::rival_peaks)
   int planes_used = 0;
   RotationSource rotation_source = RotationSource::kInitial;
   bool rotation_keyframe = false;

@@ -62,6 +62,9 @@ struct OdometryConfig {
   int psr_exclusion = 5;    // side lobe excludes (2n+1)^2 around the peak
   float psr_bound = 30.0f;  // translation keyframe renewed at or below; paper: 50 (README: seeds)
   float psr_min = 8.0f;     // below: the KCC match is not trusted
+  // KCC maxima of at least this fraction of the highest compete; the one nearest the motion
+  // model's predicted shift wins (a periodic texture's next period). 1: the highest only.
+  float kcc_prior_ratio = 0.9f;
   float depth_gray_tolerance = 0.1f;  // Eq. 18 inlier test on intensity
   float depth_inlier_m = 0.1f;        // Eq. 18 inlier test on the depth difference
   int depth_iterations = 3;

@@ -1,0 +1,43 @@
+#pragma once
+// The pose check's rules (stage 3's last step), apart from the state they run on: whether an
+// alignment passes, how two hypotheses compare, and whether a passing pose may be called OK.
+#include <Eigen/Geometry>
+
+#include "nidevo/odometry/depth_alignment.hpp"
+#include "nidevo/odometry/odometry_config.hpp"
+
+namespace nidevo {
+
+struct CheckVerdict {
+  bool passed = false;
+  const char* reason = "";  // static text; empty when passed
+};
+CheckVerdict judgeAlignment(const AlignmentResult& a, const OdometryConfig& c);
+
+// More agreeing points first; on texture, grey-value agreement breaks near-ties.
+double alignmentScore(const AlignmentResult& a, const OdometryConfig& c);
+
+// Motion between two poses in units of the prior: translation over prior_translation_m plus
+// rotation over prior_rotation_rad. Beyond 1 the poses are far apart.
+double priorDistance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                     const OdometryConfig& c);
+bool farApart(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, const OdometryConfig& c);
+
+// Two fits within hypothesis_tie of each other at poses far apart: distinct solutions that the
+// data cannot tell apart (a periodic texture fits as well one period away).
+bool distinctTie(const AlignmentResult& a, const AlignmentResult& b, const OdometryConfig& c);
+
+// What is known of the chosen hypothesis besides its alignment.
+struct HypothesisOrigin {
+  bool from_method = false;           // the method's own pose (not the prediction or last pose)
+  bool rotation_measured = false;     // from two planes
+  bool translation_measured = false;  // from a confident, unrivalled KCC match
+};
+
+// Whether a passing alignment's pose is right in every direction. Depth fixes a direction for
+// certain; grey values may fix it a texture period away, and a direction left free has only the
+// method's word: both are trusted near the prediction (T_ref_predicted) only.
+bool directionsTrusted(const AlignmentResult& best, const Eigen::Isometry3d& T_ref_predicted,
+                       const HypothesisOrigin& origin, const OdometryConfig& c);
+
+}  // namespace nidevo

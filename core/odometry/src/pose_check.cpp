@@ -1,0 +1,51 @@
+#include "nidevo/odometry/pose_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace nidevo {
+
+CheckVerdict judgeAlignment(const AlignmentResult& a, const OdometryConfig& c) {
+  if (a.overlapFraction() < c.verify_min_overlap)
+    return {false, "pose failed verification: too little of the reference frame in view"};
+  if (a.inlierFraction() < c.verify_min_inliers)
+    return {false, "pose failed verification: depth disagrees with the pose"};
+  if (a.rms_m > c.verify_max_rms_m)
+    return {false, "pose failed verification: surface residual too large"};
+  if (a.ref_intensity_std >= c.verify_texture_std && a.ncc < c.verify_min_ncc)
+    return {false, "pose failed verification: grey values disagree with the pose"};
+  return {true, ""};
+}
+
+double alignmentScore(const AlignmentResult& a, const OdometryConfig& c) {
+  const double ncc = a.ref_intensity_std >= c.verify_texture_std ? std::clamp(a.ncc, 0.0, 1.0) : 0;
+  return a.inliers * (1.0 + 0.5 * ncc);
+}
+
+double priorDistance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                     const OdometryConfig& c) {
+  const Eigen::Isometry3d d = a.inverse() * b;
+  return d.translation().norm() / c.prior_translation_m +
+         Eigen::AngleAxisd(d.rotation()).angle() / c.prior_rotation_rad;
+}
+
+bool farApart(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, const OdometryConfig& c) {
+  return priorDistance(a, b, c) > 1.0;
+}
+
+bool distinctTie(const AlignmentResult& a, const AlignmentResult& b, const OdometryConfig& c) {
+  const double sa = alignmentScore(a, c), sb = alignmentScore(b, c);
+  return std::abs(sa - sb) <= c.hypothesis_tie * std::max(sa, sb) &&
+         farApart(a.T_ref_cur, b.T_ref_cur, c);
+}
+
+bool directionsTrusted(const AlignmentResult& best, const Eigen::Isometry3d& T_ref_predicted,
+                       const HypothesisOrigin& origin, const OdometryConfig& c) {
+  if (best.depth_constrained == 6) return true;
+  if (farApart(best.T_ref_cur, T_ref_predicted, c)) return false;
+  if (best.constrained == 6) return true;
+  return origin.from_method && (!best.free_rotation || origin.rotation_measured) &&
+         (!best.free_translation || origin.translation_measured);
+}
+
+}  // namespace nidevo
