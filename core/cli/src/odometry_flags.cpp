@@ -40,6 +40,8 @@ ABSL_FLAG(int, rotation_keyframe_interval, kDefaults.rotation_keyframe_interval,
           "Renew the rotation keyframe at least every this many frames");
 ABSL_FLAG(double, psr_bound, kDefaults.psr_bound,
           "Translation keyframe renewed at or below this PSR (paper: 50)");
+ABSL_FLAG(bool, predicted_association, kDefaults.predicted_association,
+          "Plane association through the predicted rotation (false: the same pixel, as the paper)");
 ABSL_FLAG(double, kcc_prior_ratio, kDefaults.kcc_prior_ratio,
           "KCC maxima of at least this fraction of the highest compete; the one nearest the "
           "predicted shift wins (1: the highest only)");
@@ -86,6 +88,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.rotation_keyframe_interval = absl::GetFlag(FLAGS_rotation_keyframe_interval);
   c.psr_bound = float(absl::GetFlag(FLAGS_psr_bound));
   c.kcc_prior_ratio = float(absl::GetFlag(FLAGS_kcc_prior_ratio));
+  c.predicted_association = absl::GetFlag(FLAGS_predicted_association);
   c.align_iterations = absl::GetFlag(FLAGS_align_iterations);
   c.align_min_eigenvalue = float(absl::GetFlag(FLAGS_align_min_eigenvalue));
   c.align_photometric_weight = float(absl::GetFlag(FLAGS_align_photometric_weight));

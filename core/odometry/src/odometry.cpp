@@ -55,10 +55,13 @@ Isometry3d rotationOnly(const Matrix3d& R) {
 }  // namespace
 
 struct Odometry::RotationState {
-  explicit RotationState(const OdometryConfig& c, int map_pixels)
-      : tracking(planeTrackingParams(c, map_pixels)), normal_map_pixels(map_pixels) {}
+  RotationState(const OdometryConfig& c, const Camera& camera, int map_pixels)
+      : tracking(planeTrackingParams(c, map_pixels)),
+        normal_map_pixels(map_pixels),
+        map_camera(camera.subsampled(c.normal_stride)) {}
   const PlaneTrackingParams tracking;
   const int normal_map_pixels;
+  const Camera map_camera;
   bool has_keyframe = false;
   NormalMap key_normals;
   Matrix3d R_world_key = Matrix3d::Identity();
@@ -117,7 +120,8 @@ Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
     row_ray[size_t(v)] = float((float(v * stride) - camera_.cy) / camera_.fy);
   expandRays(camera_.distortion, column_ray, row_ray, &ray_x_, &ray_y_);
   rot_ = std::make_unique<RotationState>(
-      config_, (camera_.width / config_.normal_stride) * (camera_.height / config_.normal_stride));
+      config_, camera_,
+      (camera_.width / config_.normal_stride) * (camera_.height / config_.normal_stride));
   trans_ = std::make_unique<TranslationState>(config_);
   verify_ = std::make_unique<VerificationState>(config_, camera_);
 }
@@ -203,10 +207,14 @@ void Odometry::estimateRotation(FrameState* s) {
 void Odometry::matchRotationKeyframe(const Matrix3d& R_pred, FrameState* s) {
   RotationState& r = *rot_;
   const int px = r.normal_map_pixels;
-  r.tracker.track(r.key_normals, s->normals, r.tracking, &r.tracked);
+  const Matrix3d R_key_pred = r.R_world_key.transpose() * R_pred;
+  // A predicted turn of under a map pixel warps nothing: the same pixels are compared.
+  const bool warp = config_.predicted_association &&
+                    Eigen::AngleAxisd(R_key_pred).angle() * r.map_camera.fx >= 1.0;
+  const PlaneWarp plane_warp{R_key_pred.cast<float>(), r.map_camera};
+  r.tracker.track(r.key_normals, s->normals, r.tracking, &r.tracked, warp ? &plane_warp : nullptr);
   s->overlap_pixels = r.tracked.overlap_pixels;
 
-  const Matrix3d R_key_pred = r.R_world_key.transpose() * R_pred;
   Matrix3d R_key_cur;
   const auto solution =
       solveRotation(r.tracked.planes, config_.rotation_method, config_.parallel_dot,

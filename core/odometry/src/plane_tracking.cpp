@@ -62,15 +62,19 @@ Eigen::Vector3f PlaneTracker::medianNormal(const NormalMap& map, const int* pixe
   return r.normalized();
 }
 
-PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, int* pixels,
-                                   size_t count, const PlaneTrackingParams& p) {
+PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, int* key_pixels,
+                                   int* cur_pixels, size_t count, const PlaneTrackingParams& p) {
   // A mode holds every surface of one orientation within acos(mode_dot): keep the pixels in a
   // narrow cone around its median orientation, then the dominant offset n.p only (the largest of
   // parallel planes), chosen in the keyframe and used for both frames.
-  const Eigen::Vector3f axis = medianNormal(key, pixels, count);
+  const Eigen::Vector3f axis = medianNormal(key, key_pixels, count);
   size_t kept = 0;
+  auto keep = [&](size_t k) {
+    key_pixels[kept] = key_pixels[k];
+    cur_pixels[kept++] = cur_pixels[k];
+  };
   for (size_t k = 0; k < count; ++k) {
-    if (key.normal[size_t(pixels[k])].dot(axis) >= p.fit_cone_dot) pixels[kept++] = pixels[k];
+    if (key.normal[size_t(key_pixels[k])].dot(axis) >= p.fit_cone_dot) keep(k);
   }
   constexpr float kBin = 0.02f;  // metres
   constexpr int kBins = 1024;
@@ -78,7 +82,7 @@ PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, i
   auto bin_of = [&](int pixel) {
     return std::clamp(int(std::floor(-axis.dot(key.points[size_t(pixel)]) / kBin)), 0, kBins - 1);
   };
-  for (size_t k = 0; k < kept; ++k) ++histogram_[size_t(bin_of(pixels[k]))];
+  for (size_t k = 0; k < kept; ++k) ++histogram_[size_t(bin_of(key_pixels[k]))];
   int peak = 1, best = -1;  // the densest window of three bins
   for (int b = 1; b + 1 < kBins; ++b) {
     const int w = histogram_[size_t(b - 1)] + histogram_[size_t(b)] + histogram_[size_t(b + 1)];
@@ -88,43 +92,55 @@ PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, i
   count = kept;
   kept = 0;
   for (size_t k = 0; k < count; ++k) {
-    if (std::abs(-axis.dot(key.points[size_t(pixels[k])]) - d0) < tolerance)
-      pixels[kept++] = pixels[k];
+    if (std::abs(-axis.dot(key.points[size_t(key_pixels[k])]) - d0) < tolerance) keep(k);
   }
   count = kept;
   if (count < 3) return {axis, axis, 0};
 
   // Points of a neighbouring surface whose smoothed normals lean towards this plane (near a
   // shallow crease) pull the fit: refit on the points close to both frames' planes.
-  Plane pk = fitPlane(key, pixels, count), pc = fitPlane(cur, pixels, count);
+  Plane pk = fitPlane(key, key_pixels, count), pc = fitPlane(cur, cur_pixels, count);
   for (int iteration = 0; iteration < 2; ++iteration) {
     for (size_t k = 0; k < count; ++k) {
-      const size_t i = size_t(pixels[k]);
+      const size_t i = size_t(key_pixels[k]), j = size_t(cur_pixels[k]);
       scratch_[k] =
           std::max(std::abs(pk.normal.dot(key.points[i] - pk.centroid)) / key.points[i].z(),
-                   std::abs(pc.normal.dot(cur.points[i] - pc.centroid)) / cur.points[i].z());
+                   std::abs(pc.normal.dot(cur.points[j] - pc.centroid)) / cur.points[j].z());
     }
     std::copy(scratch_.begin(), scratch_.begin() + long(count), residual_.begin());
     const float median = kth_smallest_(residual_.data(), count, count / 2);
     const float limit = std::max(3.f * 1.4826f * median, 1e-4f);
     kept = 0;
     for (size_t k = 0; k < count; ++k)
-      if (scratch_[k] <= limit) pixels[kept++] = pixels[k];
+      if (scratch_[k] <= limit) keep(k);
     if (kept < 3 || kept == count) break;
     count = kept;
-    pk = fitPlane(key, pixels, count);
-    pc = fitPlane(cur, pixels, count);
+    pk = fitPlane(key, key_pixels, count);
+    pc = fitPlane(cur, cur_pixels, count);
   }
   return {pk.normal, pc.normal, int(count)};
 }
 
+int PlaneTracker::warpedKeyPixel(const NormalMap& cur, size_t i, const PlaneWarp& warp) const {
+  const Eigen::Vector3f p = warp.R_key_cur * cur.points[i];
+  if (p.z() <= 1e-6f) return -1;
+  const Camera& cam = warp.map_camera;
+  Eigen::Vector2d xy(double(p.x() / p.z()), double(p.y() / p.z()));
+  if (!cam.distortion.none()) xy = cam.distortion.distort(xy);
+  const long u = std::lround(cam.fx * xy.x() + cam.cx), v = std::lround(cam.fy * xy.y() + cam.cy);
+  if (u < 0 || v < 0 || u >= cur.width || v >= cur.height) return -1;
+  return int(v * cur.width + u);
+}
+
 void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const PlaneTrackingParams& p,
-                         PlaneTrackingResult* out) {
+                         PlaneTrackingResult* out, const PlaneWarp* warp) {
   const int W = key.width, H = key.height;
   const size_t n = size_t(W) * size_t(H);
   overlap_pixel_.resize(n);
+  overlap_cur_.resize(n);
   overlap_mode_.resize(n);
   members_.resize(n);
+  members_cur_.resize(n);
   scratch_.resize(n);
   residual_.resize(n);
   kth_smallest_.reserve(n);
@@ -141,9 +157,18 @@ void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const Plane
   for (int v = border; v < H - border; ++v) {
     for (int u = border; u < W - border; ++u) {
       const size_t i = size_t(v) * size_t(W) + size_t(u);
-      if (!key.smooth[i] || !cur.smooth[i]) continue;
-      const Eigen::Vector3f& nk = key.normal[i];
-      if (nk.dot(cur.normal[i]) < p.overlap_dot) continue;
+      if (!cur.smooth[i]) continue;
+      size_t k = i;
+      Eigen::Vector3f nc = cur.normal[i];
+      if (warp) {
+        const int warped = warpedKeyPixel(cur, i, *warp);
+        if (warped < 0) continue;
+        k = size_t(warped);
+        nc = warp->R_key_cur * nc;
+      }
+      if (!key.smooth[k]) continue;
+      const Eigen::Vector3f& nk = key.normal[k];
+      if (nk.dot(nc) < p.overlap_dot) continue;
       ++out->overlap_pixels;
       int m = 0;
       while (m < modes && nk.dot(seeds_[size_t(m)]) < p.mode_dot) ++m;
@@ -151,7 +176,8 @@ void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const Plane
         if (modes == p.max_modes) continue;
         seeds_[size_t(modes++)] = nk;
       }
-      overlap_pixel_[overlap] = int(i);
+      overlap_pixel_[overlap] = int(k);
+      overlap_cur_[overlap] = int(i);
       overlap_mode_[overlap++] = int8_t(m);
       ++counts_[size_t(m) + 1];
     }
@@ -159,18 +185,22 @@ void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const Plane
   // Group the pixels by mode (counting sort): mode m owns members_[counts_[m] .. counts_[m+1]).
   for (int m = 0; m < modes; ++m) counts_[size_t(m) + 1] += counts_[size_t(m)];
   offsets_.assign(counts_.begin(), counts_.end());
-  for (size_t k = 0; k < overlap; ++k)
-    members_[size_t(offsets_[size_t(overlap_mode_[k])]++)] = overlap_pixel_[k];
+  for (size_t k = 0; k < overlap; ++k) {
+    const size_t slot = size_t(offsets_[size_t(overlap_mode_[k])]++);
+    members_[slot] = overlap_pixel_[k];
+    members_cur_[slot] = overlap_cur_[k];
+  }
 
   for (int m = 0; m < modes; ++m) {
-    int* pixels = &members_[size_t(counts_[size_t(m)])];
+    int* key_pixels = &members_[size_t(counts_[size_t(m)])];
+    int* cur_pixels = &members_cur_[size_t(counts_[size_t(m)])];
     const size_t count = size_t(counts_[size_t(m) + 1] - counts_[size_t(m)]);
     if (int(count) < p.min_plane_pixels) continue;
     if (p.estimator == PlaneNormalEstimator::kMedian) {
       out->planes.push_back(
-          {medianNormal(key, pixels, count), medianNormal(cur, pixels, count), int(count)});
+          {medianNormal(key, key_pixels, count), medianNormal(cur, cur_pixels, count), int(count)});
     } else {
-      const PlanePair pair = fittedPair(key, cur, pixels, count, p);
+      const PlanePair pair = fittedPair(key, cur, key_pixels, cur_pixels, count, p);
       if (pair.pixels >= p.min_plane_pixels) out->planes.push_back(pair);
     }
   }

@@ -25,8 +25,11 @@ struct OdometryConfig {
   float max_depth_m = 10.0f;
 
   // Stage 2: plane tracking and rotation (paper Alg. 1, Eqs. 5-8).
-  int border_px = 10;                // in input pixels
-  float overlap_dot = 0.9f;          // key/current normals of one pixel at least this aligned
+  int border_px = 10;        // in input pixels
+  float overlap_dot = 0.9f;  // key/current normals of one pixel at least this aligned
+  // Compare a pixel with the keyframe pixel the predicted rotation maps it to, and its normal
+  // after that rotation (paper: the same pixel, unrotated).
+  bool predicted_association = true;
   float crease_dot = 0.999f;         // 4-neighbour normals less aligned than this: a crease
   float mode_dot = 0.95f;            // a pixel joins a mode within this
   float min_plane_fraction = 0.05f;  // pixels of a mode, as a fraction of the normal map

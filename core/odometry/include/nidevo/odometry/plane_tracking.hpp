@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "nidevo/odometry/camera.hpp"
 #include "nidevo/odometry/normal_map.hpp"
 #include "nidevo/odometry/selection.hpp"
 
@@ -34,6 +35,15 @@ struct PlaneTrackingParams {
   float fit_cone_dot;  // kPlaneFit: members within this of the mode's median normal
 };
 
+// The predicted rotation between the frames, so that a pixel of the current frame is compared
+// with the keyframe pixel that saw the same direction, and its normal after that rotation: a
+// fast turn is then not a different plane. Translation is left out (small against depth over a
+// keyframe's few frames).
+struct PlaneWarp {
+  Eigen::Matrix3f R_key_cur;  // current-camera vectors into the keyframe camera
+  Camera map_camera;          // the normal map's camera, with its lens
+};
+
 struct PlaneTrackingResult {
   int overlap_pixels = 0;         // pixels co-planar in both frames
   std::vector<PlanePair> planes;  // modes with at least min_plane_pixels, largest first
@@ -41,18 +51,22 @@ struct PlaneTrackingResult {
 
 class PlaneTracker {
  public:
-  // key and cur must have the same size. Reuses its buffers; `out->planes` keeps its capacity.
+  // key and cur must have the same size. Without a warp a pixel is compared with the same pixel
+  // of the keyframe (the paper). Reuses its buffers; `out->planes` keeps its capacity.
   void track(const NormalMap& key, const NormalMap& cur, const PlaneTrackingParams& params,
-             PlaneTrackingResult* out);
+             PlaneTrackingResult* out, const PlaneWarp* warp = nullptr);
 
  private:
+  // The keyframe pixel that saw cur's pixel i's direction, or -1.
+  int warpedKeyPixel(const NormalMap& cur, size_t i, const PlaneWarp& warp) const;
   Eigen::Vector3f medianNormal(const NormalMap& map, const int* pixels, size_t count);
-  PlanePair fittedPair(const NormalMap& key, const NormalMap& cur, int* pixels, size_t count,
-                       const PlaneTrackingParams& params);
+  // key_pixels[k] in the keyframe and cur_pixels[k] in the current frame are one point.
+  PlanePair fittedPair(const NormalMap& key, const NormalMap& cur, int* key_pixels, int* cur_pixels,
+                       size_t count, const PlaneTrackingParams& params);
 
-  std::vector<int> overlap_pixel_;
+  std::vector<int> overlap_pixel_, overlap_cur_;
   std::vector<int8_t> overlap_mode_;
-  std::vector<int> members_;
+  std::vector<int> members_, members_cur_;
   std::vector<Eigen::Vector3f> seeds_;
   std::vector<int> counts_, offsets_;
   std::vector<float> scratch_, residual_;
