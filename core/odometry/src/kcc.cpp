@@ -168,8 +168,8 @@ bool KernelCrossCorrelator::isLocalMaximum(int u, int v) const {
   return true;
 }
 
-// One pass over the response: only cells above the ratio are looked at closely, and those are
-// few (the tops of the strongest peaks).
+// Two passes over the response, one to choose and one to count rivals; only the cells above the
+// ratio are looked at closely, and those are few (the tops of the strongest peaks).
 size_t KernelCrossCorrelator::peakNearPrior(size_t best, const KccShiftPrior& prior, int exclusion,
                                             int* rivals) const {
   const int W = width_, H = height_;
@@ -179,24 +179,24 @@ size_t KernelCrossCorrelator::peakNearPrior(size_t best, const KccShiftPrior& pr
     dx = std::min(dx, W - dx), dy = std::min(dy, H - dy);  // the response is circular
     return dx * dx + dy * dy;
   };
+  auto forEachStrongMaximum = [&](auto&& visit) {
+    for (size_t i = 0; i < n_real_; ++i) {
+      if (response_[i] < floor) continue;
+      const int u = int(i % size_t(W)), v = int(i / size_t(W));
+      if (isLocalMaximum(u, v)) visit(i, u, v);
+    }
+  };
   size_t chosen = best;
   double chosen_d2 = distance2(int(best % size_t(W)), int(best / size_t(W)), prior.du, prior.dv);
-  for (size_t i = 0; i < n_real_; ++i) {
-    if (response_[i] < floor) continue;
-    const int u = int(i % size_t(W)), v = int(i / size_t(W));
-    if (!isLocalMaximum(u, v)) continue;
+  forEachStrongMaximum([&](size_t i, int u, int v) {
     const double d2 = distance2(u, v, prior.du, prior.dv);
     if (d2 < chosen_d2) chosen = i, chosen_d2 = d2;
-  }
-  const int cu = int(chosen % size_t(W)), cv = int(chosen / size_t(W));
+  });
+  const double cu = signedShift(int(chosen % size_t(W)), W),
+               cv = signedShift(int(chosen / size_t(W)), H);
   const double apart2 = double(exclusion) * double(exclusion);
   *rivals = 0;
-  for (size_t i = 0; i < n_real_; ++i) {
-    if (response_[i] < floor) continue;
-    const int u = int(i % size_t(W)), v = int(i / size_t(W));
-    if (isLocalMaximum(u, v) && distance2(u, v, signedShift(cu, W), signedShift(cv, H)) > apart2)
-      ++*rivals;
-  }
+  forEachStrongMaximum([&](size_t, int u, int v) { *rivals += distance2(u, v, cu, cv) > apart2; });
   return chosen;
 }
 
