@@ -60,8 +60,15 @@ void writeTrajectoryPlot(const std::string& path, const std::vector<Eigen::Vecto
   cv::Mat img(kPanel + 40, 2 * kPanel, CV_8UC3, cv::Scalar(255, 255, 255));
   cv::putText(img, title, {12, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1,
               cv::LINE_AA);
+  // Right-aligned, and clear of a long title (a long dataset path ran into it).
   const std::string legend = "grey: reference   blue: estimate (aligned)";
-  cv::putText(img, legend, {kPanel + 12, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1,
+  int baseline = 0;
+  const int title_end =
+      12 + cv::getTextSize(title, cv::FONT_HERSHEY_SIMPLEX, 0.55, 1, &baseline).width;
+  const int legend_width =
+      cv::getTextSize(legend, cv::FONT_HERSHEY_SIMPLEX, 0.5, 1, &baseline).width;
+  const int legend_x = std::max(title_end + 24, img.cols - 12 - legend_width);
+  cv::putText(img, legend, {legend_x, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1,
               cv::LINE_AA);
   drawPanel(img, 0, reference, estimate, 0, 2, "top view (x right, z up the page)");
   drawPanel(img, kPanel, reference, estimate, 0, 1, "side view (x right, y up the page)");
