@@ -82,12 +82,12 @@ double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std
 // One residual r with the model's derivative direction d (a normal, or a grey gradient): the
 // Jacobian row is [p x d / depth_scale, d].
 void DepthAligner::addRow(const Vector3d& p, const Vector3d& d, double r, double w,
-                          double depth_scale) {
+                          double depth_scale, NormalEquations* system) {
   Eigen::Matrix<double, 6, 1> J;
   J.head<3>() = p.cross(d) / depth_scale;
   J.tail<3>() = d;
-  H_.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
-  b_ += w * r * J;
+  system->H.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
+  system->b += w * r * J;
 }
 
 void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
@@ -98,8 +98,8 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
   const Matrix3d R = T_cur_ref.linear();
   const Vector3d t = T_cur_ref.translation();
   if (build_system) {
-    H_.setZero();
-    b_.setZero();
+    depth_.setZero();
+    grey_.setZero();
     system_points_ = 0;
   }
   int associated = 0, inliers = 0;
@@ -125,7 +125,8 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
       sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
     }
     if (!build_system) continue;
-    addRow(p, n, r, huberWeight(r, prm.inlier_m), depth_scale);  // scale: the inlier threshold
+    addRow(p, n, r, huberWeight(r, prm.inlier_m), depth_scale,
+           &depth_);  // scale: the inlier threshold
     ++system_points_;
     if (photometric) {
       Eigen::Vector3d g;
@@ -133,7 +134,8 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
       if (greyAndGradient(cur_intensity, cur.width, cur.height, cam, p, uf, vf, &grey, &g)) {
         const double lambda = prm.photometric_weight;
         const double rg = gain_ * ref.intensity[i] + bias_ - grey;
-        addRow(p, lambda * g, lambda * rg, huberWeight(rg, prm.photometric_huber), depth_scale);
+        addRow(p, lambda * g, lambda * rg, huberWeight(rg, prm.photometric_huber), depth_scale,
+               &grey_);
       }
     }
   }
@@ -156,21 +158,36 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
   }
 }
 
+namespace {
+
+// Directions (of 6) whose normalised eigenvalue reaches min_eigenvalue.
+int constrainedDirections(const Eigen::Matrix<double, 6, 6>& H, double min_eigenvalue) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H, Eigen::EigenvaluesOnly);
+  return int((eig.eigenvalues().array() >= min_eigenvalue).count());
+}
+
+}  // namespace
+
 void DepthAligner::gaussNewton(const SurfaceSample& ref, const NormalMap& cur,
                                const std::vector<float>& cur_intensity, const Camera& map_camera,
                                const AlignmentParams& prm, double depth_scale, bool photometric,
-                               Isometry3d* T_cur_ref_io, AlignmentResult* result) {
+                               int iterations, Isometry3d* T_cur_ref_io, AlignmentResult* result) {
   Isometry3d& T_cur_ref = *T_cur_ref_io;
   AlignmentResult& res = *result;
-  for (int it = 0; it < prm.iterations; ++it) {
+  for (int it = 0; it < iterations; ++it) {
     evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, true, photometric,
              &res);
     // Too few points for six unknowns, or a step no small-motion linearisation can take: the
     // hypothesis is left as it is (and judged as it is).
     if (system_points_ < std::max(12, int(ref.size() / 20))) return;
-    const Eigen::Matrix<double, 6, 6> H =
-        Eigen::Matrix<double, 6, 6>(H_.selfadjointView<Eigen::Lower>()) / system_points_;
-    const Eigen::Matrix<double, 6, 1> b = b_ / system_points_;
+    const Eigen::Matrix<double, 6, 6> H_depth =
+        Eigen::Matrix<double, 6, 6>(depth_.H.selfadjointView<Eigen::Lower>()) / system_points_;
+    Eigen::Matrix<double, 6, 6> H = H_depth;
+    Eigen::Matrix<double, 6, 1> b = depth_.b / system_points_;
+    if (photometric) {
+      H += Eigen::Matrix<double, 6, 6>(grey_.H.selfadjointView<Eigen::Lower>()) / system_points_;
+      b += grey_.b / system_points_;
+    }
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H);
     Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
     res.constrained = 0;
@@ -186,6 +203,9 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const NormalMap& cur,
       const auto vk = eig.eigenvectors().col(k);
       xi += (vk.dot(b) / lambda) * vk;
     }
+    // What depth alone fixes at this pose, whatever the grey values add.
+    res.depth_constrained =
+        photometric ? constrainedDirections(H_depth, prm.min_eigenvalue) : res.constrained;
     xi.head<3>() /= depth_scale;
     if (!xi.allFinite() || xi.head<3>().norm() > 0.3 || xi.tail<3>().norm() > 0.3) return;
     T_cur_ref = increment(xi) * T_cur_ref;
@@ -207,12 +227,18 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& c
   double depth_scale = 0;
   for (const auto& p : ref.point) depth_scale += p.z();
   depth_scale = ref.size() ? std::max(0.1, depth_scale / double(ref.size())) : 1.0;
-  // Depth alone first; where it leaves a direction free, again with the grey values, so that
-  // texture fixes what geometry cannot (and costs nothing where geometry suffices).
-  gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, false, &T_cur_ref, &res);
-  res.depth_constrained = res.constrained;
-  if (res.constrained < 6 && prm.photometric_weight > 0)
-    gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, true, &T_cur_ref, &res);
+  // Depth alone first (its basin is wider than the grey values'); then depth and grey values
+  // together: they fix what geometry leaves free, and where depth fixed everything they still
+  // polish the pose in a few steps (a real sensor's depth is biased and noisy).
+  gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, false, prm.iterations,
+              &T_cur_ref, &res);
+  if (prm.photometric_weight > 0) {
+    const int steps =
+        res.constrained < 6 ? prm.iterations : std::min(prm.polish_iterations, prm.iterations);
+    if (steps > 0)
+      gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, true, steps, &T_cur_ref,
+                  &res);
+  }
   evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, false, false, &res);
   res.T_ref_cur = T_cur_ref.inverse();
   return res;

@@ -48,4 +48,44 @@ bool directionsTrusted(const AlignmentResult& best, const Eigen::Isometry3d& T_r
          (!best.free_translation || origin.translation_measured);
 }
 
+HypothesisChoice chooseHypothesis(const AlignmentResult* results, const CheckVerdict* verdicts,
+                                  const HypothesisOrigin* origins, int count,
+                                  const Eigen::Isometry3d& T_ref_predicted,
+                                  const OdometryConfig& c) {
+  int chosen = 0;
+  for (int h = 1; h < count; ++h) {
+    const bool passes = verdicts[h].passed, best_passes = verdicts[chosen].passed;
+    if (passes != best_passes) {
+      if (passes) chosen = h;
+      continue;
+    }
+    // Within a tie, poses close together are one solution (the better converged wins); poses
+    // far apart are distinct solutions, and the prediction decides.
+    if (distinctTie(results[h], results[chosen], c)
+            ? priorDistance(results[h].T_ref_cur, T_ref_predicted, c) <
+                  priorDistance(results[chosen].T_ref_cur, T_ref_predicted, c)
+            : alignmentScore(results[h], c) > alignmentScore(results[chosen], c))
+      chosen = h;
+  }
+  HypothesisChoice choice{chosen, false};
+  if (!verdicts[chosen].passed) return choice;
+  for (int h = 0; h < count; ++h)
+    if (h != chosen && verdicts[h].passed)
+      choice.ambiguous |= distinctTie(results[h], results[chosen], c);
+  // Along a direction only grey values fix, a better fit far from the prediction is no proof: a
+  // periodic texture fits nearly as well a period away.
+  auto trusted = [&](int h) {
+    return directionsTrusted(results[h], T_ref_predicted, origins[h], c);
+  };
+  if (trusted(chosen)) return choice;
+  int alternative = -1;
+  for (int h = 0; h < count; ++h) {
+    if (h == chosen || !verdicts[h].passed || !trusted(h)) continue;
+    if (alternative < 0 || alignmentScore(results[h], c) > alignmentScore(results[alternative], c))
+      alternative = h;
+  }
+  if (alternative >= 0) choice = {alternative, true, true};
+  return choice;
+}
+
 }  // namespace nidevo

@@ -78,29 +78,13 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
         !farApart(results[0].T_ref_cur, predicted, config_))
       break;
   }
-  // The best fit wins. Fits within hypothesis_tie of each other at poses far apart are a tie:
-  // the one nearer the prediction wins it (a periodic texture fits as well one period away),
-  // and the frame is ambiguous.
-  int chosen = 0;
-  for (int h = 1; h < tried; ++h) {
-    const bool passes = verdicts[h].passed, best_passes = verdicts[chosen].passed;
-    if (passes != best_passes) {
-      if (passes) chosen = h;
-      continue;
-    }
-    // Within a tie, poses close together are one solution (the better converged wins); poses
-    // far apart are distinct solutions, and the prediction decides.
-    if (distinctTie(results[h], results[chosen], config_)
-            ? priorDistance(results[h].T_ref_cur, predicted, config_) <
-                  priorDistance(results[chosen].T_ref_cur, predicted, config_)
-            : alignmentScore(results[h], config_) > alignmentScore(results[chosen], config_))
-      chosen = h;
-  }
-  bool ambiguous = false;
-  for (int h = 0; h < tried; ++h) {
-    if (h == chosen || !verdicts[h].passed || !verdicts[chosen].passed) continue;
-    ambiguous |= distinctTie(results[h], results[chosen], config_);
-  }
+  HypothesisOrigin origins[3];
+  for (int h = 0; h < tried; ++h)
+    origins[h] = {h == 0, s.rotation_source == RotationSource::kPlanes, translation_measured};
+  const HypothesisChoice choice =
+      chooseHypothesis(results, verdicts, origins, tried, predicted, config_);
+  const int chosen = choice.index;
+  const bool ambiguous = choice.ambiguous;
   AlignmentResult best = results[chosen];
   CheckVerdict verdict = verdicts[chosen];
   const char* hypothesis = names[chosen];
@@ -119,6 +103,11 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   if (!verdict.passed) {
     out->state = TrackingState::kDegraded;
     out->reason = verdict.reason;
+  } else if (choice.overruled) {
+    out->state = TrackingState::kDegraded;
+    out->reason =
+        "a better fit far from the prediction rests on grey values alone (a periodic pattern?); "
+        "the pose near the prediction kept";
   } else if (ambiguous) {
     out->state = TrackingState::kDegraded;
     out->reason = "two poses fit equally (a periodic pattern?); the one nearer the prediction kept";

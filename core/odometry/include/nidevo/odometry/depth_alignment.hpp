@@ -36,8 +36,10 @@ struct AlignmentParams {
   // [0, 1]), so that texture fixes what the geometry leaves free; 0: geometry only.
   float photometric_weight = 0.1f;
   float photometric_huber = 0.05f;  // grey units
-  float min_eigenvalue = 0.004f;    // normalised Hessian eigenvalue below which a direction is left
-                                    // to the hypothesis
+  // Steps with grey values after depth alone fixed all six directions (0: none).
+  int polish_iterations = 3;
+  float min_eigenvalue = 0.004f;  // normalised Hessian eigenvalue below which a direction is left
+                                  // to the hypothesis
 };
 
 struct AlignmentResult {
@@ -75,16 +77,24 @@ class DepthAligner {
                 const Eigen::Isometry3d& T_cur_ref, const AlignmentParams& params,
                 double depth_scale, bool build_system, bool photometric, AlignmentResult* result);
 
-  // Up to params.iterations steps from *T_cur_ref, updated in place.
+  // Up to `iterations` steps from *T_cur_ref, updated in place.
   void gaussNewton(const SurfaceSample& ref, const NormalMap& cur,
                    const std::vector<float>& cur_intensity, const Camera& map_camera,
                    const AlignmentParams& params, double depth_scale, bool photometric,
-                   Eigen::Isometry3d* T_cur_ref, AlignmentResult* result);
-  void addRow(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double r, double w,
-              double depth_scale);
+                   int iterations, Eigen::Isometry3d* T_cur_ref, AlignmentResult* result);
+  // Lower triangle of J^T W J and J^T W r, of one kind of residual.
+  struct NormalEquations {
+    Eigen::Matrix<double, 6, 6> H;
+    Eigen::Matrix<double, 6, 1> b;
+    void setZero() {
+      H.setZero();
+      b.setZero();
+    }
+  };
+  static void addRow(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double r, double w,
+                     double depth_scale, NormalEquations* system);
 
-  Eigen::Matrix<double, 6, 6> H_;
-  Eigen::Matrix<double, 6, 1> b_;
+  NormalEquations depth_, grey_;  // point-to-plane rows; grey-value rows
   int system_points_ = 0;
   double gain_ = 1.0, bias_ = 0.0;  // exposure change, estimated on the previous pass
 };

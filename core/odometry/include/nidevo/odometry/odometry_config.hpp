@@ -84,8 +84,10 @@ struct OdometryConfig {
   float align_normal_dot = 0.8f;
   float align_min_eigenvalue = 0.004f;    // weaker directions keep the hypothesis' value
   float align_photometric_weight = 0.1f;  // grey residuals in the refinement (0: depth only)
-  float verify_min_inliers = 0.7f;        // of the associated points
-  float verify_min_overlap = 0.3f;        // of the sample landing on the current surface
+  // Grey-value steps after depth alone fixed all six directions (paper: none; 0: none).
+  int align_polish_iterations = 3;
+  float verify_min_inliers = 0.7f;  // of the associated points
+  float verify_min_overlap = 0.3f;  // of the sample landing on the current surface
   float verify_max_rms_m = 0.03f;
   float verify_min_ncc = 0.3f;       // grey-value agreement, where the reference has texture
   float verify_texture_std = 0.03f;  // reference grey std below which the NCC is not asked

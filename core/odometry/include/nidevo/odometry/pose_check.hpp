@@ -40,4 +40,19 @@ struct HypothesisOrigin {
 bool directionsTrusted(const AlignmentResult& best, const Eigen::Isometry3d& T_ref_predicted,
                        const HypothesisOrigin& origin, const OdometryConfig& c);
 
+// Which of `count` checked hypotheses (the method's first) gives the pose. A passing one beats a
+// failing one; among passing ones the best fit wins, except that fits within hypothesis_tie at
+// poses far apart are a tie won by the pose nearer the prediction, and a pose that cannot be
+// trusted (directionsTrusted) loses to a passing one that can. Both of those make the frame
+// ambiguous: the data alone could not decide.
+struct HypothesisChoice {
+  int index = 0;
+  bool ambiguous = false;
+  bool overruled = false;  // the best fit could not be trusted, and a trusted one was taken
+};
+HypothesisChoice chooseHypothesis(const AlignmentResult* results, const CheckVerdict* verdicts,
+                                  const HypothesisOrigin* origins, int count,
+                                  const Eigen::Isometry3d& T_ref_predicted,
+                                  const OdometryConfig& c);
+
 }  // namespace nidevo

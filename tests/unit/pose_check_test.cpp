@@ -1,0 +1,91 @@
+#include "nidevo/odometry/pose_check.hpp"
+
+#include <gtest/gtest.h>
+
+namespace nidevo {
+namespace {
+
+using Eigen::Isometry3d;
+
+Isometry3d shifted(double x) {
+  Isometry3d T = Isometry3d::Identity();
+  T.translation().x() = x;
+  return T;
+}
+
+// A passing alignment at `T`: `inliers` of 1000 associated points agree; depth fixed
+// `depth_constrained` directions and the grey values the rest.
+AlignmentResult passing(const Isometry3d& T, int inliers, int depth_constrained) {
+  AlignmentResult a;
+  a.T_ref_cur = T;
+  a.sampled = 1000;
+  a.associated = 1000;
+  a.inliers = inliers;
+  a.rms_m = 0.005;
+  a.ncc = 0.9;
+  a.ref_intensity_std = 0.1;
+  a.constrained = 6;
+  a.depth_constrained = depth_constrained;
+  return a;
+}
+
+class ChooseHypothesisTest : public ::testing::Test {
+ protected:
+  HypothesisChoice choose(const AlignmentResult& method, const AlignmentResult& prediction) {
+    const AlignmentResult results[] = {method, prediction};
+    const CheckVerdict verdicts[] = {judgeAlignment(method, config_),
+                                     judgeAlignment(prediction, config_)};
+    // The method measured its rotation and translation; the prediction is only a guess.
+    const HypothesisOrigin origins[] = {{true, true, true}, {false, false, false}};
+    return chooseHypothesis(results, verdicts, origins, 2, still_, config_);
+  }
+  OdometryConfig config_;
+  const Isometry3d still_ = Isometry3d::Identity();  // standing still was predicted
+  const double period_ = 0.3;                        // floor tiles
+};
+
+TEST_F(ChooseHypothesisTest, APassingPoseBeatsAFailingOne) {
+  AlignmentResult failed = passing(still_, 400, 6);  // 40 % inliers
+  const HypothesisChoice c = choose(failed, passing(shifted(0.01), 950, 6));
+  EXPECT_EQ(c.index, 1);
+  EXPECT_FALSE(c.ambiguous);
+}
+
+TEST_F(ChooseHypothesisTest, ABetterFitAPeriodAwayOnGreyValuesAloneLosesToTheTrustedPose) {
+  // The method jumped a tile along the floor, which only the grey values fix, and fits 5 %
+  // better than the prediction: more than a tie, and still no proof.
+  const HypothesisChoice c =
+      choose(passing(shifted(period_), 1000, 3), passing(shifted(0.005), 950, 3));
+  EXPECT_EQ(c.index, 1);
+  EXPECT_TRUE(c.ambiguous);
+  EXPECT_TRUE(c.overruled);
+}
+
+TEST_F(ChooseHypothesisTest, AJumpDepthMeasuredIsKept) {
+  // The same jump with depth fixing all six directions is a measurement, not an alias.
+  const HypothesisChoice c =
+      choose(passing(shifted(period_), 1000, 6), passing(shifted(0.005), 950, 6));
+  EXPECT_EQ(c.index, 0);
+  EXPECT_FALSE(c.overruled);
+}
+
+TEST_F(ChooseHypothesisTest, AnUntrustedPoseIsKeptWhenNothingTrustedPasses) {
+  AlignmentResult failed = passing(shifted(0.005), 950, 3);
+  failed.ncc = 0.1;  // the grey values disagree
+  const HypothesisChoice c = choose(passing(shifted(period_), 1000, 3), failed);
+  EXPECT_EQ(c.index, 0);
+  EXPECT_FALSE(c.overruled);
+  EXPECT_FALSE(directionsTrusted(passing(shifted(period_), 1000, 3), still_,
+                                 HypothesisOrigin{true, true, true}, config_));
+}
+
+TEST_F(ChooseHypothesisTest, FitsWithinATieAtDistantPosesGoToThePoseNearerThePrediction) {
+  const HypothesisChoice c =
+      choose(passing(shifted(period_), 1000, 6), passing(shifted(0.005), 995, 6));
+  EXPECT_EQ(c.index, 1);
+  EXPECT_TRUE(c.ambiguous);
+  EXPECT_FALSE(c.overruled);
+}
+
+}  // namespace
+}  // namespace nidevo
