@@ -4,10 +4,11 @@
 # the ATE, the OK share and the silent failures, and the per-status error table over the suite
 # and over the real clip. Extra arguments go to nidevo-run (e.g. --align_photometric_weight 0).
 # Usage: scripts/status_suite.sh [nidevo-run flags...]   (NIDEVO_STATUS_OUT: CSV folder,
-# default build/status)
+# default build/status; NIDEVO_STATUS_SUITE: the sequences' folder, default build/stress)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${NIDEVO_STATUS_OUT:-build/status}
+suite_dir=${NIDEVO_STATUS_SUITE:-build/stress}
 mkdir -p "$out"
 real=../shared/data/tum_fr1_rpy_first250
 printf '%-12s %8s %8s %7s\n' sequence "ATE m" "OK" silent
@@ -23,7 +24,7 @@ run() {  # name, nidevo-run arguments...
   printf '%-12s %8.4f %7.1f%% %7s\n' "$name" "$ate" "$(echo "100 * $ok / $frames" | bc -l)" "$silent"
 }
 suite=()
-for dir in build/stress/stress_*/; do
+for dir in "$suite_dir"/stress_*/; do
   name=$(basename "$dir")
   run "$name" --dataset "$dir" "$@"
   suite+=("$out/$name.csv")

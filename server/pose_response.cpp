@@ -64,6 +64,8 @@ void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose, v1::Trac
     check->set_residual_rms_m(v.residual_rms_m);
     check->set_ncc(v.ncc);
     check->set_constrained_directions(v.constrained_directions);
+    check->set_depth_constrained_directions(v.depth_constrained_directions);
+    check->set_confirmed_directions(v.confirmed_directions);
   }
   auto* times = out->mutable_timings();
   times->set_normals(pose.times.normals_s);

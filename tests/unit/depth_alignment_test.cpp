@@ -230,5 +230,30 @@ TEST_F(DepthAlignmentTest, GreyValuesPolishAPoseThatBiasedDepthFixedAlone) {
   EXPECT_LT(error[1], error[0] - 5e-5) << "depth alone " << error[0] << ", polished " << error[1];
 }
 
+// Every direction declared too weak to update: the data then only confirm or contradict the
+// hypothesis along each, by the step they would take there.
+TEST_F(DepthAlignmentTest, WeakDirectionsConfirmTheTruePoseAndNotAPlantedOffset) {
+  const Isometry3d truth = motion(0.02, {0.2, 1, 0}, {0.03, -0.01, 0.02});
+  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
+  AlignmentParams p = alignmentParams(config_);
+  p.min_eigenvalue = 1e3f;
+  p.confirm_eigenvalue = 1e-6f;
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  const AlignmentResult right =
+      aligner_.align(sample_, cur.map, cur.intensity, map_camera, truth, p);
+  EXPECT_EQ(right.constrained, 0);
+  EXPECT_EQ(right.confirmed, 6);
+  for (const Eigen::Vector3d& offset :
+       {Eigen::Vector3d(0.03, 0, 0), Eigen::Vector3d(0, 0, 0.03), Eigen::Vector3d(0, 0.02, 0)}) {
+    const Isometry3d planted = truth * motion(0, {0, 1, 0}, offset);
+    const AlignmentResult a =
+        aligner_.align(sample_, cur.map, cur.intensity, map_camera, planted, p);
+    EXPECT_LT(a.confirmed, 6) << offset.transpose();
+    EXPECT_TRUE(a.T_ref_cur.isApprox(planted)) << "nothing may move along a weak direction";
+  }
+  p.confirm_eigenvalue = 0;  // off
+  EXPECT_EQ(aligner_.align(sample_, cur.map, cur.intensity, map_camera, truth, p).confirmed, 0);
+}
+
 }  // namespace
 }  // namespace nidevo

@@ -87,5 +87,19 @@ TEST_F(ChooseHypothesisTest, FitsWithinATieAtDistantPosesGoToThePoseNearerThePre
   EXPECT_FALSE(c.overruled);
 }
 
+TEST_F(ChooseHypothesisTest, AConfirmedWeakDirectionCountsAsFixedNearThePredictionOnly) {
+  // One plane: the roll about its normal came from the prediction, and the grey values fix it
+  // too weakly to update it.
+  AlignmentResult a = passing(shifted(0.005), 950, 3);
+  a.constrained = 5;
+  a.free_rotation = true;
+  const HypothesisOrigin roll_predicted{true, false, true};
+  EXPECT_FALSE(directionsTrusted(a, still_, roll_predicted, config_));
+  a.confirmed = 1;  // ... yet they would not move it
+  EXPECT_TRUE(directionsTrusted(a, still_, roll_predicted, config_));
+  a.T_ref_cur = shifted(period_);  // a period from the prediction: no confirmation counts
+  EXPECT_FALSE(directionsTrusted(a, still_, roll_predicted, config_));
+}
+
 }  // namespace
 }  // namespace nidevo

@@ -53,6 +53,11 @@ ABSL_FLAG(double, align_min_eigenvalue, kDefaults.align_min_eigenvalue,
           "Directions the geometry constrains less than this keep the hypothesis' value");
 ABSL_FLAG(double, align_photometric_weight, kDefaults.align_photometric_weight,
           "Grey-value residuals in the refinement, metres per grey unit (0: depth only)");
+ABSL_FLAG(double, align_confirm_eigenvalue, kDefaults.align_confirm_eigenvalue,
+          "A weaker direction of at least this eigenvalue confirms the hypothesis when its step "
+          "stays within --align_confirm_step (0: never)");
+ABSL_FLAG(double, align_confirm_step, kDefaults.align_confirm_step_m,
+          "Largest would-be step along a weak direction that confirms the hypothesis (m)");
 ABSL_FLAG(int, align_polish_iterations, kDefaults.align_polish_iterations,
           "Grey-value refinement steps after depth alone fixed all six directions (0: none)");
 ABSL_FLAG(int, verify_sample_step, kDefaults.verify_sample_step,
@@ -95,6 +100,8 @@ OdometryConfig odometryConfigFromFlags() {
   c.align_min_eigenvalue = float(absl::GetFlag(FLAGS_align_min_eigenvalue));
   c.align_photometric_weight = float(absl::GetFlag(FLAGS_align_photometric_weight));
   c.align_polish_iterations = absl::GetFlag(FLAGS_align_polish_iterations);
+  c.align_confirm_eigenvalue = float(absl::GetFlag(FLAGS_align_confirm_eigenvalue));
+  c.align_confirm_step_m = float(absl::GetFlag(FLAGS_align_confirm_step));
   c.verify_sample_step = absl::GetFlag(FLAGS_verify_sample_step);
   c.verify_min_inliers = float(absl::GetFlag(FLAGS_verify_min_inliers));
   c.verify_max_rms_m = float(absl::GetFlag(FLAGS_verify_max_rms));

@@ -191,10 +191,14 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const NormalMap& cur,
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H);
     Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
     res.constrained = 0;
+    res.confirmed = 0;
     res.free_rotation = res.free_translation = false;
     for (int k = 0; k < 6; ++k) {
       const double lambda = eig.eigenvalues()(k);
       if (lambda < prm.min_eigenvalue) {
+        if (prm.confirm_eigenvalue > 0 && lambda >= prm.confirm_eigenvalue &&
+            std::abs(eig.eigenvectors().col(k).dot(b) / lambda) <= prm.confirm_step_m)
+          ++res.confirmed;
         const bool rotational = eig.eigenvectors().col(k).head<3>().squaredNorm() > 0.5;
         (rotational ? res.free_rotation : res.free_translation) = true;
         continue;

@@ -73,6 +73,8 @@ std::string OdometryConfig::validate() const {
   if (!in(align_normal_dot, -1, 1)) return "align_normal_dot must be in [-1, 1]";
   if (!in(align_min_eigenvalue, 0, 100)) return "align_min_eigenvalue must be in [0, 100]";
   if (!in(align_photometric_weight, 0, 10)) return "align_photometric_weight must be in [0, 10]";
+  if (!in(align_confirm_eigenvalue, 0, 100)) return "align_confirm_eigenvalue must be in [0, 100]";
+  if (!in(align_confirm_step_m, 0, 1)) return "align_confirm_step_m must be in [0, 1]";
   if (align_polish_iterations < 0 || align_polish_iterations > 50)
     return "align_polish_iterations must be in 0..50";
   if (!in(verify_min_inliers, 0, 1)) return "verify_min_inliers must be in [0, 1]";
@@ -111,6 +113,8 @@ AlignmentParams alignmentParams(const OdometryConfig& c) {
   p.normal_dot = c.align_normal_dot;
   p.min_eigenvalue = c.align_min_eigenvalue;
   p.photometric_weight = c.align_photometric_weight;
+  p.confirm_eigenvalue = c.align_confirm_eigenvalue;
+  p.confirm_step_m = c.align_confirm_step_m;
   p.polish_iterations = std::min(c.align_polish_iterations, c.align_iterations);
   return p;
 }

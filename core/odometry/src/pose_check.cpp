@@ -43,7 +43,7 @@ bool directionsTrusted(const AlignmentResult& best, const Eigen::Isometry3d& T_r
                        const HypothesisOrigin& origin, const OdometryConfig& c) {
   if (best.depth_constrained == 6) return true;
   if (farApart(best.T_ref_cur, T_ref_predicted, c)) return false;
-  if (best.constrained == 6) return true;
+  if (best.constrained + best.confirmed == 6) return true;
   return origin.from_method && (!best.free_rotation || origin.rotation_measured) &&
          (!best.free_translation || origin.translation_measured);
 }

@@ -20,6 +20,8 @@ PoseVerification summary(const AlignmentResult& a, const char* hypothesis, bool 
   v.residual_rms_m = a.rms_m;
   v.ncc = a.ncc;
   v.constrained_directions = a.constrained;
+  v.depth_constrained_directions = a.depth_constrained;
+  v.confirmed_directions = a.confirmed;
   v.free_rotation = a.free_rotation;
   v.free_translation = a.free_translation;
   v.passed = passed;

@@ -38,6 +38,11 @@ struct AlignmentParams {
   float photometric_huber = 0.05f;  // grey units
   // Steps with grey values after depth alone fixed all six directions (0: none).
   int polish_iterations = 3;
+  // A direction too weak to update (eigenvalue below min_eigenvalue, at least this) whose
+  // would-be step stays within confirm_step_m (metres at the mean depth) agrees with the
+  // hypothesis: the data could have moved it and did not. 0: never confirmed.
+  float confirm_eigenvalue = 0.0f;
+  float confirm_step_m = 0.005f;
   float min_eigenvalue = 0.004f;  // normalised Hessian eigenvalue below which a direction is left
                                   // to the hypothesis
 };
@@ -52,6 +57,7 @@ struct AlignmentResult {
   double ref_intensity_std = 0;  // of the inliers' reference grey values: is there texture?
   int constrained = 0;           // directions (of 6) the geometry fixed in the last step
   int depth_constrained = 0;     // ... that depth alone fixed (the rest needed grey values)
+  int confirmed = 0;             // weak directions the data left at the hypothesis' value
   // Whether a direction left free is mostly a rotation, mostly a translation.
   bool free_rotation = false;
   bool free_translation = false;

@@ -43,9 +43,11 @@ struct PoseVerification {
   double overlap_fraction = 0;
   double residual_rms_m = 0;
   double ncc = 0;
-  int constrained_directions = 0;  // of 6; the others kept the hypothesis' value
-  bool free_rotation = false;      // a direction left free is (mostly) a rotation
-  bool free_translation = false;   // ... a translation
+  int constrained_directions = 0;        // of 6; the others kept the hypothesis' value
+  int depth_constrained_directions = 0;  // ... that depth alone fixed (the rest: grey values)
+  int confirmed_directions = 0;   // too weak to update, yet left at the hypothesis by the data
+  bool free_rotation = false;     // a direction left free is (mostly) a rotation
+  bool free_translation = false;  // ... a translation
   bool passed = false;
 };
 

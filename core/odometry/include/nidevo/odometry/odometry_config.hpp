@@ -82,7 +82,12 @@ struct OdometryConfig {
   float align_inlier_m = 0.02f;  // inlier residual, plus align_inlier_per_m per metre of depth
   float align_inlier_per_m = 0.01f;
   float align_normal_dot = 0.8f;
-  float align_min_eigenvalue = 0.004f;    // weaker directions keep the hypothesis' value
+  float align_min_eigenvalue = 0.004f;  // weaker directions keep the hypothesis' value
+  // A weaker direction, of at least this eigenvalue, whose would-be step stays within
+  // align_confirm_step_m (metres at the mean depth) confirms the hypothesis' value there, and
+  // counts as fixed for OK (0: never; README "Accuracy" measures the pair).
+  float align_confirm_eigenvalue = 3e-4f;
+  float align_confirm_step_m = 0.005f;
   float align_photometric_weight = 0.1f;  // grey residuals in the refinement (0: depth only)
   // Grey-value steps after depth alone fixed all six directions (paper: none; 0: none).
   int align_polish_iterations = 3;

@@ -35,8 +35,9 @@ struct HypothesisOrigin {
 };
 
 // Whether a passing alignment's pose is right in every direction. Depth fixes a direction for
-// certain; grey values may fix it a texture period away, and a direction left free has only the
-// method's word: both are trusted near the prediction (T_ref_predicted) only.
+// certain; grey values may fix it a texture period away, a weak direction the data confirmed
+// (AlignmentResult::confirmed) may be an alias too, and a direction left free has only the
+// method's word: all three are trusted near the prediction (T_ref_predicted) only.
 bool directionsTrusted(const AlignmentResult& best, const Eigen::Isometry3d& T_ref_predicted,
                        const HypothesisOrigin& origin, const OdometryConfig& c);
 
