@@ -101,11 +101,12 @@ TEST(Accuracy, FewerThanTwoPlanesIsFlaggedAndTrackingRecovers) {
     const bool planes = p.rotation_source == RotationSource::kPlanes ||
                         p.rotation_source == RotationSource::kInitial;
     if (planes) continue;
-    // Without two planes a frame is OK only when the pose check passed and fixed every rotation
-    // (a translation it leaves free is the KCC's, measured).
+    // Without two planes a frame is OK only when the pose check passed and fixed every rotation,
+    // or the data confirmed the predicted value of a rotation too weak to update (a translation
+    // it leaves free is the KCC's, measured); silent_failures below says those were right.
     if (p.state == TrackingState::kOk) {
       EXPECT_TRUE(p.verification.passed) << p.frame_index;
-      EXPECT_FALSE(p.verification.free_rotation) << p.frame_index;
+      if (p.verification.free_rotation) EXPECT_GE(p.verification.confirmed_directions, 1);
     } else {
       EXPECT_NE(std::string(p.reason), "");
       ++flagged;
