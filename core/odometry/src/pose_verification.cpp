@@ -91,9 +91,11 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   CheckVerdict verdict = verdicts[chosen];
   const char* hypothesis = names[chosen];
   if (best.overlapFraction() < config_.verify_min_overlap) {
-    // No hypothesis keeps the reference in view: nothing was measured, so nothing is moved.
-    best.T_ref_cur = hypotheses[1];
-    hypothesis = "prediction";
+    // No hypothesis keeps the reference in view (a fast turn away from it): the check measured
+    // nothing, and the method's pose, from its own keyframes, is the better guess than an
+    // extrapolation. Unverified, it is not OK.
+    best.T_ref_cur = hypotheses[0];
+    hypothesis = "method";
   }
   out->T_world_cam = v.T_out_ref * best.T_ref_cur;
   out->verification = summary(best, hypothesis, verdict.passed);
@@ -122,10 +124,9 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   if (out->state == TrackingState::kOk) v.degraded_frames = 0;
   const bool ok = out->state == TrackingState::kOk;
   v.motion.update(out->T_world_cam, ok);
-  // A failed frame renews the reference only when its pose still sees the old one: a frame that
-  // lost it (a glance away) is no better a reference than the last good one.
-  const bool plausible = best.overlapFraction() >= config_.verify_min_overlap;
-  if ((!ok && plausible) || (ok && best.overlapFraction() < config_.reference_min_overlap) ||
+  // A failed frame renews the reference, so that the next frames are checked against what is
+  // in view: a stale reference would leave every later frame unverifiable.
+  if (!ok || (ok && best.overlapFraction() < config_.reference_min_overlap) ||
       ++v.frames_since_reference >= config_.reference_max_frames) {
     renewReference(s, out->T_world_cam, T_method);
   }
