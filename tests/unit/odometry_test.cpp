@@ -198,6 +198,29 @@ TEST(Odometry, OnePlaneIsDegradedNotGarbage) {
   }
 }
 
+// The depth sensor sees only a narrow band of the view (the rest out of range): too little of
+// the reference lands on valid depth, so that frame fails the check, and it must become the
+// reference itself, or every later frame would be checked against a view it no longer sees.
+TEST(Odometry, AFrameThatFailsTheCheckBecomesTheReference) {
+  const synth::SyntheticSequence seq(officeConfig(1));
+  const Eigen::Isometry3d T0 = seq.groundTruth(0);
+  const OdometryConfig config;
+  Odometry odometry(seq.config().camera, config);
+  odometry.track(seq.renderAt(T0, 0.0, 0).frame);
+  RgbdFrame band = seq.renderAt(T0, 0.033, 1).frame;
+  for (int v = 0; v < band.depth.height; ++v)
+    for (int u = 0; u < band.depth.width; ++u)
+      if (std::abs(u - band.depth.width / 2) > band.depth.width / 10) band.depth.at(u, v) = 0.f;
+  const PoseEstimate narrow = odometry.track(band);
+  EXPECT_NE(narrow.state, TrackingState::kOk);
+  EXPECT_LT(narrow.verification.overlap_fraction, config.verify_min_overlap);
+  EXPECT_STREQ(narrow.verification.hypothesis, "method");  // its own keyframes, not a guess
+  band.timestamp += 0.033;
+  const PoseEstimate next = odometry.track(band);
+  EXPECT_GT(next.verification.overlap_fraction, 0.9);  // checked against frame 1, not frame 0
+  EXPECT_EQ(next.state, TrackingState::kOk) << next.reason;
+}
+
 TEST(Odometry, AllBlackImageDoesNotCrashOrProduceNaN) {
   const synth::SyntheticSequence seq(officeConfig(3));
   Odometry odometry(seq.config().camera, OdometryConfig{});
