@@ -3,17 +3,20 @@
 # deployment checks use (Prometheus + promtool, Python gRPC, docker-compose, Node for the
 # Kubernetes schema check); with --bench the peer odometries nidevo-bench compares against
 # (OpenCV-contrib's rgbd module, Open3D). Idempotent and non-interactive; quick when everything
-# is present. Usage: setup.sh [--tests] [--bench]
+# is present. With --fuzz: clang and its sanitizer runtimes (libFuzzer, ThreadSanitizer).
+# Usage: setup.sh [--tests] [--bench] [--fuzz]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 tests=0
 bench=0
+fuzz=0
 for arg in "$@"; do
   case "$arg" in
     --tests) tests=1 ;;
     --bench) bench=1 ;;
-    *) echo "setup.sh: unknown option '$arg' (--tests, --bench)" >&2; exit 2 ;;
+    --fuzz) fuzz=1 ;;
+    *) echo "setup.sh: unknown option '$arg' (--tests, --bench, --fuzz)" >&2; exit 2 ;;
   esac
 done
 
@@ -29,6 +32,10 @@ packages=(
 )
 if [ $bench -eq 1 ]; then
   packages+=(libopencv-contrib-dev libopen3d-dev)
+fi
+if [ $fuzz -eq 1 ]; then
+  # clang-14 only recommends its runtimes, and --no-install-recommends skips them.
+  packages+=(clang libclang-rt-14-dev)
 fi
 if [ $tests -eq 1 ]; then
   packages+=(prometheus python3-grpcio python3-grpc-tools docker-compose yamllint curl clang-format)

@@ -2,7 +2,9 @@
 # Set-up, build, and all tests: the Release build's CTest suite (unit, accuracy, integration
 # against the real server, deployment checks), then the unit tests under AddressSanitizer +
 # UndefinedBehaviorSanitizer (Debug) and the server's integration tests against a sanitizer build
-# of nidevo-server. Non-zero exit on any failure.
+# of nidevo-server; the threaded tests (worker pool, frame pipeline, offline three-thread
+# pipeline) under ThreadSanitizer; and each libFuzzer target for a few seconds on its corpus
+# (scripts/fuzz.sh; NIDEVO_FUZZ_SECONDS, default 5). Non-zero exit on any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
@@ -25,4 +27,14 @@ if [ "${NIDEVO_SKIP_SANITIZERS:-0}" != "1" ]; then
   # The Release test client drives the sanitizer server: sessions, limits, drain, metrics.
   NIDEVO_TEST_SERVER_BINARY="$PWD/build-asan/bin/nidevo-server" \
     ctest --test-dir build --output-on-failure -j 1 -L integration -R "Service|Metrics"
+
+  echo "== the threaded tests under ThreadSanitizer"
+  cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNIDEVO_SANITIZE_THREAD=ON \
+    -DNIDEVO_BUILD_BENCHMARKS=OFF >/dev/null
+  cmake --build build-tsan -j "$jobs" --target nidevo_thread_tests
+  TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
+    ctest --test-dir build-tsan --output-on-failure -j "$jobs" -L thread
+
+  echo "== every fuzz target briefly on its corpus"
+  scripts/fuzz.sh "${NIDEVO_FUZZ_SECONDS:-5}"
 fi

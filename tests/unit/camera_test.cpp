@@ -75,6 +75,11 @@ TEST(Camera, BadFilesNameFileAndLine) {
   expect_error(tempFile("c.txt", "fx 500\nfy 500\ncx 1\ncy 1\nwidth 10\n"), "missing key 'height'");
   expect_error(tempFile("d.txt", "fx 0\nfy 500\ncx 1\ncy 1\nwidth 10\nheight 10\n"), "fx");
   expect_error("/nonexistent/camera.txt", "cannot open");
+  // Found by fuzzing: a size beyond int's range was cast (undefined behaviour) before the check.
+  expect_error(tempFile("e.txt", "fx 42\nfy 42\ncx 1\ncy 1\nwidth 1e87\nheight 10\n"),
+               "width must be a whole number in 1..8192");
+  expect_error(tempFile("f.txt", "fx 42\nfy 42\ncx 1\ncy 1\nwidth 10\nheight 2.5\n"),
+               "height must be a whole number");
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "nidevo/io/camera_io.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -37,6 +38,10 @@ std::string cameraPresetNames() { return "icl, icl_fy_positive, tum_fr1, tum_fr2
 Camera readCameraFile(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open camera file");
+  return parseCameraText(in, path);
+}
+
+Camera parseCameraText(std::istream& in, const std::string& path) {
   std::map<std::string, double> values;
   std::string line;
   int line_no = 0;
@@ -71,6 +76,12 @@ Camera readCameraFile(const std::string& path) {
   c.fy = values["fy"];
   c.cx = values["cx"];
   c.cy = values["cy"];
+  // Checked before the cast: a double outside int's range has no int value (found by fuzzing).
+  for (const char* k : {"width", "height"}) {
+    const double v = values[k];
+    if (!(v >= 1 && v <= 8192 && v == std::floor(v)))
+      throw std::runtime_error(path + ": " + k + " must be a whole number in 1..8192");
+  }
   c.width = int(values["width"]);
   c.height = int(values["height"]);
   if (values.count("depth_scale")) c.depth_scale = values["depth_scale"];

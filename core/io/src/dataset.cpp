@@ -56,9 +56,7 @@ std::string lineError(const std::string& path, int line_no, const std::string& w
 }
 
 template <typename Fn>
-void forEachDataLine(const std::string& path, Fn&& fn) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
+void forEachDataLine(std::istream& in, const std::string& source, Fn&& fn) {
   std::string line;
   int line_no = 0;
   while (std::getline(in, line)) {
@@ -68,16 +66,22 @@ void forEachDataLine(const std::string& path, Fn&& fn) {
     try {
       fn(fields);
     } catch (const std::invalid_argument& e) {
-      throw std::runtime_error(lineError(path, line_no, e.what()));
+      throw std::runtime_error(lineError(source, line_no, e.what()));
     }
   }
 }
 
+std::ifstream openList(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  return in;
+}
+
 }  // namespace
 
-std::vector<TimedFile> readFileList(const std::string& path) {
+std::vector<TimedFile> parseFileList(std::istream& in, const std::string& source) {
   std::vector<TimedFile> files;
-  forEachDataLine(path, [&](const std::vector<std::string>& f) {
+  forEachDataLine(in, source, [&](const std::vector<std::string>& f) {
     if (f.size() != 2) {
       throw std::invalid_argument("expected 'timestamp filename', got " + std::to_string(f.size()) +
                                   " fields");
@@ -85,6 +89,28 @@ std::vector<TimedFile> readFileList(const std::string& path) {
     files.push_back({parseDouble(f[0]), f[1]});
   });
   return files;
+}
+
+std::vector<TimedFile> readFileList(const std::string& path) {
+  std::ifstream in = openList(path);
+  return parseFileList(in, path);
+}
+
+std::vector<DatasetEntry> parseAssociations(std::istream& in, const std::string& source) {
+  std::vector<DatasetEntry> entries;
+  forEachDataLine(in, source, [&](const std::vector<std::string>& f) {
+    if (f.size() < 4) {
+      throw std::invalid_argument("expected 'ts_rgb rgb_file ts_depth depth_file', got " +
+                                  std::to_string(f.size()) + " fields");
+    }
+    // TUM's associate.py writes rgb first; some tools write depth first: tell by the folder.
+    DatasetEntry e;
+    e.rgb = {parseDouble(f[0]), f[1]};
+    e.depth = {parseDouble(f[2]), f[3]};
+    if (e.rgb.path.rfind("depth", 0) == 0) std::swap(e.rgb, e.depth);
+    entries.push_back(e);
+  });
+  return entries;
 }
 
 TumDataset::TumDataset(const std::string& folder, const Camera& fallback_camera,
@@ -96,18 +122,8 @@ TumDataset::TumDataset(const std::string& folder, const Camera& fallback_camera,
 
   const fs::path assoc = dir / "associations.txt";
   if (fs::exists(assoc)) {
-    forEachDataLine(assoc.string(), [&](const std::vector<std::string>& f) {
-      if (f.size() < 4) {
-        throw std::invalid_argument("expected 'ts_rgb rgb_file ts_depth depth_file', got " +
-                                    std::to_string(f.size()) + " fields");
-      }
-      // TUM's associate.py writes rgb first; some tools write depth first: tell by the folder.
-      DatasetEntry e;
-      e.rgb = {parseDouble(f[0]), f[1]};
-      e.depth = {parseDouble(f[2]), f[3]};
-      if (e.rgb.path.rfind("depth", 0) == 0) std::swap(e.rgb, e.depth);
-      entries_.push_back(e);
-    });
+    std::ifstream in = openList(assoc.string());
+    entries_ = parseAssociations(in, assoc.string());
   } else {
     const auto rgb = readFileList((dir / "rgb.txt").string());
     const auto depth = readFileList((dir / "depth.txt").string());

@@ -51,7 +51,7 @@ bool parseTumLine(const std::string& line, StampedPose* pose) {
                                 std::to_string(fields.size()));
   }
   double v[8];
-  for (int i = 0; i < 8; ++i) v[i] = parseDouble(fields[i]);
+  for (size_t i = 0; i < 8; ++i) v[i] = parseDouble(fields[i]);
   Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
   const double n = q.norm();
   if (!(n > 0.9 && n < 1.1)) {
@@ -66,6 +66,10 @@ bool parseTumLine(const std::string& line, StampedPose* pose) {
 Trajectory readTumTrajectory(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open trajectory file");
+  return parseTumTrajectory(in, path);
+}
+
+Trajectory parseTumTrajectory(std::istream& in, const std::string& path) {
   Trajectory traj;
   std::string line;
   int line_no = 0;

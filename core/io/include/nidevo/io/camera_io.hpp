@@ -1,5 +1,6 @@
 #pragma once
 // Cameras as the tools name them: built-in presets and a small text file format.
+#include <istream>
 #include <optional>
 #include <string>
 
@@ -15,6 +16,8 @@ std::string cameraPresetNames();
 // Brown-Conrady k1 k2 p1 p2 k3), '#' comments. Throws std::runtime_error naming the file and line
 // on any problem.
 Camera readCameraFile(const std::string& path);
+// The same format from a stream; `source` names it in errors.
+Camera parseCameraText(std::istream& in, const std::string& source);
 void writeCameraFile(const std::string& path, const Camera& camera);
 
 }  // namespace nidevo

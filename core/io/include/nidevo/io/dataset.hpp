@@ -1,5 +1,6 @@
 #pragma once
 // TUM RGB-D / ICL-NUIM sequence folders, read frame by frame.
+#include <istream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,6 +30,11 @@ std::vector<std::pair<size_t, size_t>> associateByTimestamp(const std::vector<do
 
 // Reads "timestamp filename" lists (rgb.txt, depth.txt). Throws naming file and line.
 std::vector<TimedFile> readFileList(const std::string& path);
+// The same from a stream; `source` names it in errors.
+std::vector<TimedFile> parseFileList(std::istream& in, const std::string& source);
+// associations.txt: "ts_rgb rgb_file ts_depth depth_file" (or depth first) per line; entries
+// without ground truth. Throws naming source and line.
+std::vector<DatasetEntry> parseAssociations(std::istream& in, const std::string& source);
 
 class TumDataset {
  public:

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Geometry>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,8 @@ using Trajectory = std::vector<StampedPose>;
 // TUM format: "timestamp tx ty tz qx qy qz qw" per line, '#' comments. Throws std::runtime_error
 // naming the file and line on malformed input.
 Trajectory readTumTrajectory(const std::string& path);
+// The same from a stream; `source` names it in errors.
+Trajectory parseTumTrajectory(std::istream& in, const std::string& source);
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory);
 std::string formatTumLine(const StampedPose& pose);
 // Parses one line; returns false for blank/comment lines, throws std::invalid_argument if
