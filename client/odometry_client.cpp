@@ -38,12 +38,28 @@ Eigen::Isometry3d toIsometry(const v1::Pose& pose) {
   return T;
 }
 
+void toProto(const Eigen::Isometry3d& T, v1::Pose* pose) {
+  const Eigen::Quaterniond q(T.rotation());
+  pose->set_tx(T.translation().x());
+  pose->set_ty(T.translation().y());
+  pose->set_tz(T.translation().z());
+  pose->set_qw(q.w());
+  pose->set_qx(q.x());
+  pose->set_qy(q.y());
+  pose->set_qz(q.z());
+}
+
 Client::Client(const ChannelOptions& options) : options_(options) {
   grpc::ChannelArguments args;
   args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, int(options.keepalive_time_s * 1000));
   args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, int(options.keepalive_timeout_s * 1000));
   args.SetMaxReceiveMessageSize(-1);
   args.SetMaxSendMessageSize(-1);  // the server enforces its own limit and says so
+  // gRPC's default first reconnect waits 1 s, growing to 120 s: too slow for a pose stream
+  // whose server restarts in a second.
+  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 200);
+  args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 200);
+  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
   if (!options.load_balancing.empty()) args.SetLoadBalancingPolicyName(options.load_balancing);
   std::shared_ptr<grpc::ChannelCredentials> creds;
   if (options.tls) {
@@ -109,6 +125,7 @@ std::unique_ptr<Session> Client::open(const SessionOptions& options, ResponseCal
   config->set_overload_policy(options.overload_policy);
   config->set_queue_capacity(options.queue_capacity);
   config->set_client_name(options.client_name);
+  if (options.initial_pose) toProto(*options.initial_pose, config->mutable_initial_pose());
   session->stream_->Write(session->request_);  // a failure shows in finish()
   if (callback) {
     Session* s = session.get();

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -34,6 +35,8 @@ struct SessionOptions {
   uint32_t queue_capacity = 0;  // 0: server default
   std::string client_name;
   double deadline_s = 0;  // whole-stream deadline; 0: none
+  // T_world_cam of the first frame (SessionConfig.initial_pose); none: identity.
+  std::optional<Eigen::Isometry3d> initial_pose;
 };
 
 // Receives every answer, in the order the server sends it, on the session's reader thread.
@@ -89,6 +92,7 @@ class Client {
 
 // T_world_cam of an answer.
 Eigen::Isometry3d toIsometry(const v1::Pose& pose);
+void toProto(const Eigen::Isometry3d& T, v1::Pose* pose);
 
 // Human name of a gRPC status code, e.g. "RESOURCE_EXHAUSTED".
 std::string statusCodeName(grpc::StatusCode code);

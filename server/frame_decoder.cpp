@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "nidevo/io/frame_conversion.hpp"
+#include "pose_response.hpp"
 
 namespace nidevo::server {
 
@@ -64,7 +65,7 @@ std::string FrameDecoder::validate(const v1::SessionConfig& config) {
   if (!v1::OverloadPolicy_IsValid(config.overload_policy()))
     return "config.overload_policy: unsupported value " + std::to_string(config.overload_policy());
   if (std::string e = cameraOf(config).validate(); !e.empty()) return "config.camera: " + e;
-  return "";
+  return validateInitialPose(config);
 }
 
 FrameDecoder::FrameDecoder(const v1::SessionConfig& config)

@@ -15,8 +15,12 @@ double secondsBetween(Clock::time_point a, Clock::time_point b) {
 }  // namespace
 
 OdometryStages::OdometryStages(std::shared_ptr<const FrameDecoder> decoder,
-                               std::unique_ptr<Odometry> odometry, ServerMetrics* metrics)
-    : decoder_(std::move(decoder)), odometry_(std::move(odometry)), metrics_(metrics) {}
+                               std::unique_ptr<Odometry> odometry, ServerMetrics* metrics,
+                               const Eigen::Isometry3d& world_from_first)
+    : decoder_(std::move(decoder)),
+      odometry_(std::move(odometry)),
+      metrics_(metrics),
+      world_from_first_(world_from_first) {}
 
 void OdometryStages::prepare(FrameJob* job) {
   const Clock::time_point start = Clock::now();
@@ -36,7 +40,7 @@ void OdometryStages::rotate(FrameJob* job) { odometry_->estimateRotation(&job->s
 v1::TrackResponse OdometryStages::translate(FrameJob* job) {
   const PoseEstimate pose = odometry_->estimateTranslation(&job->state);
   v1::TrackResponse response;
-  fillPoseResponse(job->frame, pose, &response);
+  fillPoseResponse(job->frame, pose, world_from_first_, &response);
   auto* t = response.mutable_timings();
   t->set_queue(job->queue_s);
   t->set_decode(job->decode_s);

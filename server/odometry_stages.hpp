@@ -12,8 +12,10 @@ namespace nidevo::server {
 
 class OdometryStages final : public FrameStages {
  public:
+  // Poses are reported as world_from_first * the odometry's (the session's initial pose).
   OdometryStages(std::shared_ptr<const FrameDecoder> decoder, std::unique_ptr<Odometry> odometry,
-                 ServerMetrics* metrics);
+                 ServerMetrics* metrics,
+                 const Eigen::Isometry3d& world_from_first = Eigen::Isometry3d::Identity());
 
   void prepare(FrameJob* job) override;
   void rotate(FrameJob* job) override;
@@ -25,6 +27,7 @@ class OdometryStages final : public FrameStages {
   std::shared_ptr<const FrameDecoder> decoder_;
   std::unique_ptr<Odometry> odometry_;
   ServerMetrics* metrics_;
+  Eigen::Isometry3d world_from_first_;
 };
 
 }  // namespace nidevo::server

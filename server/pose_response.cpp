@@ -1,6 +1,8 @@
 #include "pose_response.hpp"
 
 #include <Eigen/Geometry>
+#include <cmath>
+#include <string>
 
 namespace nidevo::server {
 
@@ -34,13 +36,36 @@ v1::RotationSource toProto(RotationSource s) {
 
 }  // namespace
 
-void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose, v1::TrackResponse* out) {
+std::string validateInitialPose(const v1::SessionConfig& config) {
+  if (!config.has_initial_pose()) return "";
+  const v1::Pose& p = config.initial_pose();
+  for (double x : {p.tx(), p.ty(), p.tz(), p.qw(), p.qx(), p.qy(), p.qz()})
+    if (!std::isfinite(x)) return "config.initial_pose: every value must be finite";
+  const double norm = Eigen::Vector4d(p.qw(), p.qx(), p.qy(), p.qz()).norm();
+  if (std::abs(norm - 1) > 1e-3)
+    return "config.initial_pose: the quaternion must be unit length, its norm is " +
+           std::to_string(norm);
+  return "";
+}
+
+Eigen::Isometry3d initialPoseOf(const v1::SessionConfig& config) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (!config.has_initial_pose()) return T;
+  const v1::Pose& p = config.initial_pose();
+  T.linear() = Eigen::Quaterniond(p.qw(), p.qx(), p.qy(), p.qz()).normalized().toRotationMatrix();
+  T.translation() = Eigen::Vector3d(p.tx(), p.ty(), p.tz());
+  return T;
+}
+
+void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose,
+                      const Eigen::Isometry3d& world_from_first, v1::TrackResponse* out) {
   out->set_sequence(frame.sequence());
   out->set_timestamp(frame.timestamp());
   out->set_status(toProto(pose.state));
   out->set_reason(pose.reason);
-  const Eigen::Vector3d t = pose.T_world_cam.translation();
-  const Eigen::Quaterniond q(pose.T_world_cam.rotation());
+  const Eigen::Isometry3d T_world_cam = world_from_first * pose.T_world_cam;
+  const Eigen::Vector3d t = T_world_cam.translation();
+  const Eigen::Quaterniond q(T_world_cam.rotation());
   auto* p = out->mutable_pose();
   p->set_tx(t.x());
   p->set_ty(t.y());

@@ -101,6 +101,7 @@ void Session::configure(const v1::SessionConfig& config) {
   client_name_ = config.client_name().substr(0, 64);
   // Building the odometry allocates every per-session buffer and FFTW plan: worker's job.
   auto decoder = std::make_shared<const FrameDecoder>(config);
+  world_from_first_ = initialPoseOf(config);
   runTask([this, decoder] {
     std::unique_ptr<Odometry> odometry;
     std::string error;
@@ -120,7 +121,8 @@ void Session::configure(const v1::SessionConfig& config) {
 
 void Session::startPipeline(std::shared_ptr<const FrameDecoder> decoder,
                             std::unique_ptr<Odometry> odometry) {
-  stages_ = std::make_unique<OdometryStages>(std::move(decoder), std::move(odometry), env_.metrics);
+  stages_ = std::make_unique<OdometryStages>(std::move(decoder), std::move(odometry), env_.metrics,
+                                             world_from_first_);
   FramePipelineHooks hooks;
   hooks.run_task = [this](std::function<void()> task) { runTask(std::move(task)); };
   hooks.answer = [this](v1::TrackResponse response) { answer(std::move(response)); };

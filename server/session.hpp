@@ -76,6 +76,7 @@ class Session final : public grpc::ServerBidiReactor<v1::TrackRequest, v1::Track
   uint64_t answered_ = 0;
   v1::OverloadPolicy policy_ = v1::OVERLOAD_POLICY_BLOCK;
   size_t queue_capacity_ = 0;
+  Eigen::Isometry3d world_from_first_ = Eigen::Isometry3d::Identity();  // config.initial_pose
 
   // Set once the config is accepted and the odometry built (the session is then configured).
   std::unique_ptr<OdometryStages> stages_;

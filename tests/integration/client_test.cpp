@@ -2,9 +2,12 @@
 // Python example, and flags from the environment.
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
+#include <thread>
 
 #include "nidevo/io/trajectory.hpp"
 #include "server_process.hpp"
@@ -26,6 +29,13 @@ const std::string& syntheticFolder() {
     return dir;
   }();
   return folder;
+}
+
+// The real Kinect clip in ../shared/data (its first 60 frames); empty where it is absent.
+std::string realClipFlags() {
+  const std::string folder = NIDEVO_SOURCE_DIR "/../shared/data/tum_fr1_rpy_first250";
+  if (!std::filesystem::exists(folder + "/associations.txt")) return "";
+  return " --dataset " + folder + " --camera tum_fr1 --max_frames 60";
 }
 
 std::string readText(const std::string& path) {
@@ -125,6 +135,103 @@ TEST(ClientTools, HealthExitCodeFollowsTheServer) {
                        &out),
             1);
   EXPECT_NE(out.find("UNAVAILABLE"), std::string::npos) << out;
+}
+
+// Lines of a TUM trajectory file that is still being written.
+size_t poseLines(const std::string& path) {
+  std::ifstream in(path);
+  size_t n = 0;
+  for (std::string line; std::getline(in, line);) n += !line.empty() && line[0] != '#';
+  return n;
+}
+
+double apeRmseValue(const std::string& report) {
+  const std::string line = apeRmse(report);
+  return line.empty() ? -1 : std::stod(line.substr(line.find_first_of("0123456789")));
+}
+
+TEST(ClientTools, ReplayReconnectsAfterTheServerIsKilledAndKeepsTheWorldFrame) {
+  const std::string clip = realClipFlags();
+  if (clip.empty()) GTEST_SKIP() << "no ../shared/data/tum_fr1_rpy_first250";
+  const std::string dir = makeTempDir();
+  const std::string replay =
+      NIDEVO_BIN_DIR "/nidevo-client replay --encoding raw --rate 30 --target ";
+  const int port = freeTcpPort();
+  const std::string address = "--address=127.0.0.1:" + std::to_string(port);
+  std::string uninterrupted;
+  {
+    ServerProcess server({address});
+    ASSERT_EQ(runCommand(replay + server.target() + clip + " --out " + dir + "/whole.txt",
+                         &uninterrupted),
+              0)
+        << uninterrupted;
+  }
+  std::string out;
+  int exit_code = -1;
+  {
+    auto first = std::make_unique<ServerProcess>(std::vector<std::string>{address});
+    const std::string trajectory = dir + "/interrupted.txt";
+    std::thread client([&] {
+      exit_code = runCommand(replay + first->target() + clip + " --out " + trajectory, &out);
+    });
+    // Poses are written as they arrive: kill the server once a third of them are in the file.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (poseLines(trajectory) < 20 && std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    first->signal(SIGKILL);
+    first->waitExit(10);
+    first.reset();
+    ServerProcess second({address});
+    client.join();
+    ASSERT_EQ(exit_code, 0) << out;
+    EXPECT_NE(out.find("replay: 60 frames sent, 60 answered"), std::string::npos) << out;
+    EXPECT_NE(out.find("reconnects: 1,"), std::string::npos) << out;
+    EXPECT_NE(out.find("replay done: 60 frames sent, 60 answered, 60 poses written"),
+              std::string::npos)
+        << out;
+    // Every frame answered once, in order, and no jump where the new session took over.
+    const Trajectory poses = readTumTrajectory(trajectory);
+    ASSERT_EQ(poses.size(), 60u);
+    for (size_t i = 1; i < poses.size(); ++i) {
+      EXPECT_GT(poses[i].timestamp, poses[i - 1].timestamp) << i;
+      EXPECT_LT((poses[i].translation - poses[i - 1].translation).norm(), 0.05) << i;
+    }
+  }
+  const double whole = apeRmseValue(uninterrupted), interrupted = apeRmseValue(out);
+  ASSERT_GT(whole, 0) << uninterrupted;
+  EXPECT_LE(interrupted, 1.1 * whole)
+      << "ATE " << interrupted << " m against " << whole << " m uninterrupted\n"
+      << out;
+}
+
+TEST(ClientTools, ReplayWithoutReconnectsSaysWhatItGotWhenTheServerDies) {
+  const std::string clip = realClipFlags();
+  if (clip.empty()) GTEST_SKIP() << "no ../shared/data/tum_fr1_rpy_first250";
+  const std::string dir = makeTempDir();
+  const std::string trajectory = dir + "/partial.txt";
+  std::string out;
+  int exit_code = -1;
+  auto server = std::make_unique<ServerProcess>();
+  std::thread client([&] {
+    exit_code = runCommand(NIDEVO_BIN_DIR
+                               "/nidevo-client replay --frames 120 --rate 40 "
+                               "--reconnect_attempts 0 --out " +
+                               trajectory + " --target " + server->target(),
+                           &out);
+  });
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (poseLines(trajectory) < 20 && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  server->signal(SIGKILL);
+  client.join();
+  EXPECT_EQ(exit_code, 1) << out;
+  EXPECT_NE(out.find("stream ended with UNAVAILABLE"), std::string::npos) << out;
+  // The answers received are kept: the file holds every pose the summary counts.
+  const size_t written = poseLines(trajectory);
+  EXPECT_GE(written, 20u);
+  EXPECT_NE(out.find("answered, " + std::to_string(written) + " poses written to " + trajectory),
+            std::string::npos)
+      << out;
 }
 
 TEST(ClientTools, ReplayEndsAtItsDeadlineWithTheStatus) {

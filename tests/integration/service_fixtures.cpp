@@ -36,10 +36,13 @@ client::SessionOptions sessionFor(const Camera& camera, const client::FrameEncod
 }
 
 StreamResult streamSequence(client::Client& client, const TestSequence& sequence,
-                            const client::FrameEncoding& encoding) {
+                            const client::FrameEncoding& encoding,
+                            const std::optional<Eigen::Isometry3d>& initial_pose) {
   StreamResult result;
-  auto session = client.open(sessionFor(sequence.camera, encoding),
-                             [&](const v1::TrackResponse& r) { result.responses.push_back(r); });
+  client::SessionOptions options = sessionFor(sequence.camera, encoding);
+  options.initial_pose = initial_pose;
+  auto session =
+      client.open(options, [&](const v1::TrackResponse& r) { result.responses.push_back(r); });
   v1::Frame frame;
   for (size_t i = 0; i < sequence.frames.size(); ++i) {
     client::encodeFrame(sequence.frames[i], sequence.camera.depth_scale, encoding, &frame);

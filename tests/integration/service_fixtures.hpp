@@ -1,5 +1,6 @@
 #pragma once
 // Shared by the integration tests: rendered sequences, offline reference poses, streaming.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ struct StreamResult {
 };
 // Streams every frame (sequence numbers 0..n-1) in one session and collects the answers.
 StreamResult streamSequence(client::Client& client, const TestSequence& sequence,
-                            const client::FrameEncoding& encoding);
+                            const client::FrameEncoding& encoding,
+                            const std::optional<Eigen::Isometry3d>& initial_pose = std::nullopt);
 
 }  // namespace nidevo::test

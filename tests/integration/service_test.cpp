@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <thread>
 
 #include "metrics_scrape.hpp"
@@ -75,6 +76,27 @@ TEST(Service, PosesEqualTheOfflinePipeline) {
     }
   }
   (void)offline;
+}
+
+TEST(Service, AnInitialPoseSetsTheWorldFrameOfEveryPose) {
+  ServerProcess server;
+  Client client(channelTo(server));
+  Eigen::Isometry3d world_from_first = Eigen::Isometry3d::Identity();
+  world_from_first.linear() =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+  world_from_first.translation() = Eigen::Vector3d(1.5, -2, 0.25);
+  const auto offline = offlinePoses(office());
+  const StreamResult result =
+      streamSequence(client, office(), parseFrameEncoding("raw-f32"), world_from_first);
+  ASSERT_TRUE(result.status.ok()) << result.status.error_message();
+  ASSERT_EQ(result.responses.size(), offline.size());
+  for (size_t i = 0; i < offline.size(); ++i) {
+    const Eigen::Isometry3d expected = world_from_first * offline[i].T_world_cam;
+    const Eigen::Isometry3d got = client::toIsometry(result.responses[i].pose());
+    EXPECT_LT((got.translation() - expected.translation()).norm(), 1e-9) << i;
+    EXPECT_LT(Eigen::AngleAxisd(got.rotation().transpose() * expected.rotation()).angle(), 1e-9)
+        << i;
+  }
 }
 
 TEST(Service, ConcurrentSessionsEachGetTheirOwnPoses) {
@@ -161,6 +183,16 @@ TEST(Service, MalformedSessionConfigsEndWithInvalidArgumentNamingTheField) {
        "config.depth_scale"},
       {"huge queue", [](v1::TrackRequest* r) { r->mutable_config()->set_queue_capacity(100000); },
        "config.queue_capacity"},
+      {"initial pose not a rotation",
+       [](v1::TrackRequest* r) { r->mutable_config()->mutable_initial_pose()->set_qw(2); },
+       "config.initial_pose: the quaternion must be unit length"},
+      {"initial pose not finite",
+       [](v1::TrackRequest* r) {
+         auto* p = r->mutable_config()->mutable_initial_pose();
+         p->set_qw(1);
+         p->set_tx(std::nan(""));
+       },
+       "config.initial_pose: every value must be finite"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
