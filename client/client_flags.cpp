@@ -11,6 +11,12 @@ NIDEVO_FLAG_HEADING("Connection and session (every command)");
 ABSL_FLAG(std::string, target, kDefaults.target, "Server address host:port (any gRPC target)");
 ABSL_FLAG(bool, tls, kDefaults.tls, "Connect with TLS");
 ABSL_FLAG(std::string, ca_file, "", "PEM CA certificates for --tls (default: the system's)");
+ABSL_FLAG(std::string, tls_cert_file, "",
+          "Mutual TLS: this client's PEM certificate chain (with --tls and --tls_key_file)");
+ABSL_FLAG(std::string, tls_key_file, "", "Mutual TLS: the private key of --tls_cert_file");
+ABSL_FLAG(std::string, token_file, "",
+          "File whose first line is the bearer token sent on every call (the server's "
+          "--token_file); also NIDEVO_TOKEN_FILE");
 ABSL_FLAG(double, connect_timeout_s, kDefaults.connect_timeout_s,
           "Give up connecting (and on unary calls) after this long");
 ABSL_FLAG(double, keepalive_time_s, kDefaults.keepalive_time_s,
@@ -57,6 +63,12 @@ ChannelOptions channelOptionsFromFlags() {
   o.target = absl::GetFlag(FLAGS_target);
   o.tls = absl::GetFlag(FLAGS_tls);
   o.ca_file = absl::GetFlag(FLAGS_ca_file);
+  o.cert_file = absl::GetFlag(FLAGS_tls_cert_file);
+  o.key_file = absl::GetFlag(FLAGS_tls_key_file);
+  if ((!o.cert_file.empty() || !o.key_file.empty()) && !o.tls)
+    throw std::invalid_argument("--tls_cert_file and --tls_key_file need --tls");
+  if (const std::string path = absl::GetFlag(FLAGS_token_file); !path.empty())
+    o.bearer_token = readBearerToken(path);
   o.connect_timeout_s = absl::GetFlag(FLAGS_connect_timeout_s);
   o.keepalive_time_s = absl::GetFlag(FLAGS_keepalive_time_s);
   o.load_balancing = absl::GetFlag(FLAGS_load_balancing);

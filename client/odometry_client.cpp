@@ -14,7 +14,7 @@ namespace {
 
 std::string readFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read CA file " + path);
+  if (!in) throw std::runtime_error("cannot read " + path);
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
@@ -25,6 +25,18 @@ std::chrono::system_clock::time_point after(double seconds) {
 }
 
 }  // namespace
+
+std::string readBearerToken(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("--token_file: cannot read " + path);
+  for (std::string line; std::getline(in, line);) {
+    line = line.substr(0, line.find('#'));
+    const auto begin = line.find_first_not_of(" \t\r");
+    if (begin == std::string::npos) continue;
+    return line.substr(begin, line.find_last_not_of(" \t\r") - begin + 1);
+  }
+  throw std::runtime_error("--token_file: " + path + " holds no token");
+}
 
 std::string statusCodeName(grpc::StatusCode code) {
   // gRPC's codes are Abseil's, value for value.
@@ -65,6 +77,12 @@ Client::Client(const ChannelOptions& options) : options_(options) {
   if (options.tls) {
     grpc::SslCredentialsOptions ssl;
     if (!options.ca_file.empty()) ssl.pem_root_certs = readFile(options.ca_file);
+    if (options.cert_file.empty() != options.key_file.empty())
+      throw std::invalid_argument("--tls_cert_file and --tls_key_file go together");
+    if (!options.cert_file.empty()) {
+      ssl.pem_cert_chain = readFile(options.cert_file);
+      ssl.pem_private_key = readFile(options.key_file);
+    }
     creds = grpc::SslCredentials(ssl);
   } else {
     creds = grpc::InsecureChannelCredentials();
@@ -73,20 +91,22 @@ Client::Client(const ChannelOptions& options) : options_(options) {
   stub_ = v1::OdometryService::NewStub(channel_);
 }
 
-void Client::setDeadline(grpc::ClientContext* context) const {
+void Client::prepare(grpc::ClientContext* context) const {
   context->set_deadline(after(options_.connect_timeout_s));
+  if (!options_.bearer_token.empty())
+    context->AddMetadata("authorization", "Bearer " + options_.bearer_token);
 }
 
 grpc::Status Client::serverInfo(v1::ServerInfo* info) {
   grpc::ClientContext context;
-  setDeadline(&context);
+  prepare(&context);
   return stub_->GetServerInfo(&context, v1::GetServerInfoRequest(), info);
 }
 
 grpc::Status Client::health(const std::string& service, bool* serving) {
   auto stub = grpc::health::v1::Health::NewStub(channel_);
   grpc::ClientContext context;
-  setDeadline(&context);
+  prepare(&context);
   grpc::health::v1::HealthCheckRequest request;
   request.set_service(service);
   grpc::health::v1::HealthCheckResponse response;
@@ -101,6 +121,8 @@ std::unique_ptr<Session> Client::open(const SessionOptions& options, ResponseCal
                              std::to_string(options_.connect_timeout_s) + " s");
   std::unique_ptr<Session> session(new Session());
   if (options.deadline_s > 0) session->context_.set_deadline(after(options.deadline_s));
+  if (!options_.bearer_token.empty())
+    session->context_.AddMetadata("authorization", "Bearer " + options_.bearer_token);
   session->stream_ = stub_->Track(&session->context_);
   auto* config = session->request_.mutable_config();
   auto* camera = config->mutable_camera();

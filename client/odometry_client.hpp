@@ -20,6 +20,11 @@ struct ChannelOptions {
   std::string target = "127.0.0.1:50051";  // host:port, or any gRPC target (dns:///svc:50051)
   bool tls = false;
   std::string ca_file;  // PEM roots for TLS; empty: the system's
+  // Mutual TLS: this client's PEM certificate chain and private key (both or neither).
+  std::string cert_file;
+  std::string key_file;
+  // Sent as "authorization: Bearer <token>" on every call; empty: none.
+  std::string bearer_token;
   // Keepalive matching the server's defaults (it accepts pings every 10 s or slower).
   double keepalive_time_s = 60;
   double keepalive_timeout_s = 20;
@@ -83,7 +88,8 @@ class Client {
   const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
 
  private:
-  void setDeadline(grpc::ClientContext* context) const;
+  // The connect deadline and the bearer token, on a unary call's context.
+  void prepare(grpc::ClientContext* context) const;
 
   ChannelOptions options_;
   std::shared_ptr<grpc::Channel> channel_;
@@ -93,6 +99,10 @@ class Client {
 // T_world_cam of an answer.
 Eigen::Isometry3d toIsometry(const v1::Pose& pose);
 void toProto(const Eigen::Isometry3d& T, v1::Pose* pose);
+
+// The first token of a token file (one per line, '#' comments), as the server reads them.
+// Throws std::runtime_error naming the file when it cannot be read or holds no token.
+std::string readBearerToken(const std::string& path);
 
 // Human name of a gRPC status code, e.g. "RESOURCE_EXHAUSTED".
 std::string statusCodeName(grpc::StatusCode code);

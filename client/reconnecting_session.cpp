@@ -69,7 +69,7 @@ bool ReconnectingSession::send(const v1::Frame& frame) {
   if (final_status_) return false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    kept_.push_back({frame, false});
+    kept_.push_back({frame, false, std::nullopt});
   }
   if (session_->send(frame)) return true;
   return recover(session_->finish());

@@ -5,8 +5,8 @@
 namespace nidevo::server {
 
 OdometryService::OdometryService(const ServerConfig& config, WorkerPool& pool,
-                                 ServerMetrics& metrics)
-    : config_(config), pool_(pool), metrics_(metrics) {
+                                 ServerMetrics& metrics, const TokenAuthenticator& auth)
+    : config_(config), pool_(pool), metrics_(metrics), auth_(auth) {
   reaper_ = std::thread([this] { reapIdleSessions(); });
 }
 
@@ -19,8 +19,19 @@ OdometryService::~OdometryService() {
   reaper_.join();
 }
 
+grpc::Status OdometryService::authenticate(const grpc::CallbackServerContext& context) {
+  const TokenAuthenticator::Result result = auth_.check(context);
+  if (result == TokenAuthenticator::Result::kOk) return grpc::Status::OK;
+  metrics_.unauthenticated(result == TokenAuthenticator::Result::kMissing);
+  return unauthenticatedStatus(result);
+}
+
 grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse>* OdometryService::Track(
     grpc::CallbackServerContext* context) {
+  if (grpc::Status status = authenticate(*context); !status.ok()) {
+    metrics_.sessionEnded(status.error_code());
+    return new RejectedStream(status);
+  }
   std::lock_guard<std::mutex> lock(mutex_);
   if (draining_) {
     metrics_.sessionEnded(grpc::StatusCode::UNAVAILABLE);
@@ -78,6 +89,11 @@ void OdometryService::reapIdleSessions() {
 grpc::ServerUnaryReactor* OdometryService::GetServerInfo(grpc::CallbackServerContext* context,
                                                          const v1::GetServerInfoRequest*,
                                                          v1::ServerInfo* info) {
+  auto* reactor = context->DefaultReactor();
+  if (grpc::Status status = authenticate(*context); !status.ok()) {
+    reactor->Finish(status);
+    return reactor;
+  }
   info->set_version(NIDEVO_VERSION);
   info->set_api("nidevo.v1");
   info->set_max_sessions(uint32_t(config_.max_sessions));
@@ -92,7 +108,6 @@ grpc::ServerUnaryReactor* OdometryService::GetServerInfo(grpc::CallbackServerCon
     info->add_color_encodings(e);
   for (auto e : {v1::DEPTH_ENCODING_UINT16, v1::DEPTH_ENCODING_FLOAT32, v1::DEPTH_ENCODING_PNG16})
     info->add_depth_encodings(e);
-  auto* reactor = context->DefaultReactor();
   reactor->Finish(grpc::Status::OK);
   return reactor;
 }

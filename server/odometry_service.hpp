@@ -10,13 +10,16 @@
 #include "server_config.hpp"
 #include "server_metrics.hpp"
 #include "session.hpp"
+#include "token_auth.hpp"
 #include "worker_pool.hpp"
 
 namespace nidevo::server {
 
 class OdometryService final : public v1::OdometryService::CallbackService {
  public:
-  OdometryService(const ServerConfig& config, WorkerPool& pool, ServerMetrics& metrics);
+  // `auth` (may be off) checks every call of this service; health is a separate service.
+  OdometryService(const ServerConfig& config, WorkerPool& pool, ServerMetrics& metrics,
+                  const TokenAuthenticator& auth);
   ~OdometryService() override;  // stops the idle reaper
 
   grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse>* Track(
@@ -32,10 +35,13 @@ class OdometryService final : public v1::OdometryService::CallbackService {
  private:
   void reapIdleSessions();
   void sessionDone(Session* session);
+  // OK, or the UNAUTHENTICATED status (counted) when the call's token does not pass.
+  grpc::Status authenticate(const grpc::CallbackServerContext& context);
 
   const ServerConfig& config_;
   WorkerPool& pool_;
   ServerMetrics& metrics_;
+  const TokenAuthenticator& auth_;
   std::mutex mutex_;
   std::condition_variable stop_cv_;
   bool stopping_ = false;

@@ -23,6 +23,7 @@
 #include "prometheus/exposer.h"
 #include "server_config.hpp"
 #include "server_metrics.hpp"
+#include "token_auth.hpp"
 #include "worker_pool.hpp"
 
 namespace {
@@ -63,6 +64,12 @@ ABSL_FLAG(double, max_connection_age_grace_s, kDefaults.max_connection_age_grace
           "Time streams get to finish after max_connection_age; 0: unlimited");
 ABSL_FLAG(std::string, tls_cert_file, "", "PEM certificate chain; with --tls_key_file enables TLS");
 ABSL_FLAG(std::string, tls_key_file, "", "PEM private key of --tls_cert_file");
+ABSL_FLAG(std::string, tls_client_ca_file, "",
+          "Mutual TLS: PEM CA certificates; every client must present a certificate they sign "
+          "(needs --tls_cert_file)");
+ABSL_FLAG(std::string, token_file, "",
+          "Bearer tokens, one per line ('#' comments): every call but health must carry "
+          "'authorization: Bearer <token>' metadata. Re-read on SIGHUP; open sessions stay");
 ABSL_FLAG(std::string, port_file, "",
           "Once serving, write 'grpc_port N' and 'metrics_port M' lines here (for scripts)");
 
@@ -107,8 +114,14 @@ std::shared_ptr<grpc::ServerCredentials> credentials() {
   const std::string key = absl::GetFlag(FLAGS_tls_key_file);
   if (cert.empty() != key.empty())
     throw std::invalid_argument("--tls_cert_file and --tls_key_file go together");
+  const std::string client_ca = absl::GetFlag(FLAGS_tls_client_ca_file);
+  if (!client_ca.empty() && cert.empty())
+    throw std::invalid_argument("--tls_client_ca_file needs --tls_cert_file and --tls_key_file");
   if (cert.empty()) return grpc::InsecureServerCredentials();
-  grpc::SslServerCredentialsOptions options;
+  grpc::SslServerCredentialsOptions options(
+      client_ca.empty() ? GRPC_SSL_DONT_REQUEST_CLIENT_CERTIFICATE
+                        : GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY);
+  if (!client_ca.empty()) options.pem_root_certs = readFile(client_ca);
   options.pem_key_cert_pairs.push_back({readFile(key), readFile(cert)});
   return grpc::SslServerCredentials(options);
 }
@@ -180,14 +193,31 @@ void configureTransport(const ServerConfig& config, grpc::ServerBuilder* builder
   }
 }
 
-int waitForStopSignal() {
+sigset_t handledSignals() {
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGINT);
-  int signal_number = 0;
-  sigwait(&signals, &signal_number);
-  return signal_number;
+  sigaddset(&signals, SIGHUP);
+  return signals;
+}
+
+// Returns SIGTERM or SIGINT; a SIGHUP re-reads the token file on the way (never logs a token).
+int waitForStopSignal(nidevo::server::TokenAuthenticator& auth) {
+  const sigset_t signals = handledSignals();
+  for (;;) {
+    int signal_number = 0;
+    sigwait(&signals, &signal_number);
+    if (signal_number != SIGHUP) return signal_number;
+    if (!auth.enabled()) {
+      std::cerr << "nidevo-server: SIGHUP: no --token_file to reload" << std::endl;
+    } else if (std::string error = auth.reload(); !error.empty()) {
+      std::cerr << "nidevo-server: SIGHUP: " << error << "; keeping the " << auth.size()
+                << " tokens loaded before" << std::endl;
+    } else {
+      std::cerr << "nidevo-server: SIGHUP: reloaded " << auth.size() << " tokens" << std::endl;
+    }
+  }
 }
 
 // Health and server info keep answering while open streams finish, so probes and load balancers
@@ -215,7 +245,11 @@ int run(const ServerConfig& config) {
   warmUp(config.odometry);
 
   auto pool = std::make_unique<nidevo::server::WorkerPool>(config.workers);
-  auto service = std::make_unique<nidevo::server::OdometryService>(config, *pool, metrics);
+  const std::string token_file = absl::GetFlag(FLAGS_token_file);
+  nidevo::server::TokenAuthenticator auth = token_file.empty()
+                                                ? nidevo::server::TokenAuthenticator()
+                                                : nidevo::server::TokenAuthenticator(token_file);
+  auto service = std::make_unique<nidevo::server::OdometryService>(config, *pool, metrics, auth);
   grpc::EnableDefaultHealthCheckService(true);
   if (config.reflection) enableReflection();
   grpc::ServerBuilder builder;
@@ -235,9 +269,10 @@ int run(const ServerConfig& config) {
   std::cerr << "nidevo-server " << NIDEVO_VERSION << ": serving nidevo.v1 on port " << grpc_port
             << (metrics_port ? ", metrics on port " + std::to_string(metrics_port) : "") << ", "
             << config.workers << " workers, at most " << config.max_sessions << " sessions"
+            << (auth.enabled() ? ", " + std::to_string(auth.size()) + " bearer tokens" : "")
             << std::endl;
 
-  const int signal_number = waitForStopSignal();
+  const int signal_number = waitForStopSignal(auth);
   std::cerr << "nidevo-server: " << (signal_number == SIGTERM ? "SIGTERM" : "SIGINT")
             << ", draining " << service->activeSessions() << " sessions for up to "
             << config.drain_timeout_s << " s" << std::endl;
@@ -258,10 +293,7 @@ int run(const ServerConfig& config) {
 
 int main(int argc, char** argv) {
   // Every thread inherits this mask, so only sigwait in run() sees the signals.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGTERM);
-  sigaddset(&signals, SIGINT);
+  const sigset_t signals = handledSignals();
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   // Debian's Abseil has deadlock detection on; gRPC's own mutexes pay for it on every lock.
   absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);

@@ -85,6 +85,12 @@ ServerMetrics::ServerMetrics(const std::string& version)
   for (size_t code = 0; code < sessions_by_code_.size(); ++code)
     sessions_by_code_[code] = &sessions_family_->Add(
         {{"code", absl::StatusCodeToString(static_cast<absl::StatusCode>(code))}});
+  auto& unauthenticated = BuildCounter()
+                              .Name("nidevo_unauthenticated_calls_total")
+                              .Help("Calls refused for their bearer token, by reason")
+                              .Register(*registry_);
+  unauthenticated_ = {&unauthenticated.Add({{"reason", "missing"}}),
+                      &unauthenticated.Add({{"reason", "wrong"}})};
   active_sessions_ = &BuildGauge()
                           .Name("nidevo_active_sessions")
                           .Help("Sessions (streams) currently open")

@@ -34,6 +34,8 @@ class ServerMetrics {
   // `code` is a grpc::StatusCode value.
   void sessionEnded(int code);
   void activeSessions(double delta) { active_sessions_->Increment(delta); }
+  // A call refused for its bearer token: missing (or not "Bearer ...") or not accepted.
+  void unauthenticated(bool missing) { unauthenticated_[missing ? 0 : 1]->Increment(); }
   void queuedFrames(double delta) { queued_frames_->Increment(delta); }
 
  private:
@@ -48,6 +50,7 @@ class ServerMetrics {
   prometheus::Counter* translation_keyframes_ = nullptr;
   prometheus::Family<prometheus::Counter>* sessions_family_ = nullptr;
   std::array<prometheus::Counter*, 17> sessions_by_code_{};
+  std::array<prometheus::Counter*, 2> unauthenticated_{};  // [missing, wrong]
   prometheus::Gauge* active_sessions_ = nullptr;
   prometheus::Gauge* queued_frames_ = nullptr;
 };

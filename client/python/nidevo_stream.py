@@ -69,17 +69,32 @@ def requests(camera, frames):
                                                  color=rgb.read(), depth=depth.read()))
 
 
+def read_token(path):
+    """The first token of a token file (one per line, '#' comments), as nidevo-server reads it."""
+    with open(path) as f:
+        for line in f:
+            token = line.split("#", 1)[0].strip()
+            if token:
+                return token
+    raise SystemExit(f"--token_file: {path} holds no token")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--target", default="127.0.0.1:50051")
     parser.add_argument("--folder", required=True, help="TUM folder with camera.txt")
+    parser.add_argument("--token_file", default=os.environ.get("NIDEVO_TOKEN_FILE", ""),
+                        help="file whose first token is sent as 'authorization: Bearer <token>'")
     args = parser.parse_args()
+    metadata = ()
+    if args.token_file:
+        metadata = (("authorization", "Bearer " + read_token(args.token_file)),)
     camera = read_camera(args.folder)
     frames = read_associations(args.folder)
     with grpc.insecure_channel(args.target) as channel:
         stub = pb_grpc.OdometryServiceStub(channel)
         try:
-            for r in stub.Track(requests(camera, frames)):
+            for r in stub.Track(requests(camera, frames), metadata=metadata):
                 p = r.pose
                 status = pb.FrameStatus.Name(r.status).replace("FRAME_STATUS_", "")
                 print(f"{r.sequence} {r.timestamp:.6f} {status} {p.tx:.9f} {p.ty:.9f} "

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -85,6 +86,13 @@ bool ServerProcess::running() {
     return false;
   }
   return r == 0;
+}
+
+std::string ServerProcess::log() const {
+  std::ifstream in(dir_ + "/server.log");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 int ServerProcess::waitExit(double timeout_s) {

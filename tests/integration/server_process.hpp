@@ -21,6 +21,8 @@ class ServerProcess {
     return "http://127.0.0.1:" + std::to_string(metrics_port_) + "/metrics";
   }
   int metricsPort() const { return metrics_port_; }
+  // What the server wrote to stderr so far.
+  std::string log() const;
   void signal(int signal_number) const;
   // Exit status, or -1 if still running after timeout_s (or killed by a signal).
   int waitExit(double timeout_s);
