@@ -7,7 +7,8 @@
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET...]
 #   targets: camera_file file_list trajectory session_config frame_decode frame_pipeline
 # Environment: NIDEVO_FUZZ_RUNS=N stops each target after N executions instead (the seconds
-# then only bound the time).
+# then only bound the time); NIDEVO_FUZZ_MAX_LEN=N caps the input size (libFuzzer's -max_len).
+# Each target's line is also appended to build-fuzz/history.txt with the date.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
@@ -26,7 +27,8 @@ cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]/#/nidevo_fuzz_}"
 mkdir -p build-fuzz/artifacts
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
 status=0
-printf '%-16s %8s %12s %10s\n' target seconds executions exec/s > build-fuzz/summary.txt
+summary="$(mktemp)"
+printf '%-16s %8s %12s %10s\n' target seconds executions exec/s > "$summary"
 for t in "${targets[@]}"; do
   seeds="tests/fuzz/corpus/$t"
   work="build-fuzz/corpus/$t"
@@ -36,7 +38,7 @@ for t in "${targets[@]}"; do
   echo "== fuzzing $t for ${seconds}s"
   start=$SECONDS
   if ! "build-fuzz/bin/nidevo_fuzz_$t" -max_total_time="$seconds" -runs="${NIDEVO_FUZZ_RUNS:--1}" \
-      -print_final_stats=1 \
+      -print_final_stats=1 ${NIDEVO_FUZZ_MAX_LEN:+-max_len=$NIDEVO_FUZZ_MAX_LEN} \
       -timeout=30 -rss_limit_mb=4096 -artifact_prefix="build-fuzz/artifacts/$t-" \
       "$work" "$seeds" >"$log" 2>&1; then
     echo "fuzz.sh: $t FAILED; the input is in build-fuzz/artifacts/, the log in $log:" >&2
@@ -46,8 +48,10 @@ for t in "${targets[@]}"; do
   execs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)"
   execs="${execs:-0}"
   took=$((SECONDS - start))
-  printf '%-16s %8s %12s %10s\n' "$t" "$took" "$execs" "$((execs / (took > 0 ? took : 1)))" \
-    >> build-fuzz/summary.txt
+  line="$(printf '%-16s %8s %12s %10s' "$t" "$took" "$execs" "$((execs / (took > 0 ? took : 1)))")"
+  echo "$line" >> "$summary"
+  echo "$(date -u +%FT%TZ) $line max_len=${NIDEVO_FUZZ_MAX_LEN:-default}" >> build-fuzz/history.txt
 done
-cat build-fuzz/summary.txt
+cat "$summary"
+rm -f "$summary"
 exit $status
