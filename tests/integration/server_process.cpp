@@ -88,6 +88,14 @@ bool ServerProcess::running() {
   return r == 0;
 }
 
+size_t ServerProcess::residentBytes() const {
+  if (pid_ <= 0) return 0;
+  std::ifstream in("/proc/" + std::to_string(pid_) + "/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return size_t(std::stoull(line.substr(6))) * 1024;
+  return 0;
+}
+
 std::string ServerProcess::log() const {
   std::ifstream in(dir_ + "/server.log");
   std::ostringstream text;

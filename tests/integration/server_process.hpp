@@ -23,6 +23,8 @@ class ServerProcess {
   int metricsPort() const { return metrics_port_; }
   // What the server wrote to stderr so far.
   std::string log() const;
+  // Resident memory of the running server, bytes (VmRSS); 0 when not running.
+  size_t residentBytes() const;
   void signal(int signal_number) const;
   // Exit status, or -1 if still running after timeout_s (or killed by a signal).
   int waitExit(double timeout_s);
