@@ -2,6 +2,8 @@
 
 #include <iostream>
 
+#include "memory_release.hpp"
+
 namespace nidevo::server {
 
 OdometryService::OdometryService(const ServerConfig& config, WorkerPool& pool,
@@ -61,6 +63,7 @@ grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse>* OdometryService::T
 void OdometryService::sessionDone(Session* session) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (sessions_.erase(session)) metrics_.activeSessions(-1);
+  ended_since_release_ = true;
 }
 
 void OdometryService::beginDrain() {
@@ -83,6 +86,12 @@ void OdometryService::reapIdleSessions() {
     if (stopping_) break;
     const Clock::time_point now = Clock::now();
     for (Session* s : sessions_) s->expireIfIdle(now);
+    if (sessions_.empty() && ended_since_release_) {
+      ended_since_release_ = false;
+      lock.unlock();  // a new session need not wait for the trim
+      if (releaseFreedMemory()) metrics_.memoryReleased();
+      lock.lock();
+    }
   }
 }
 

@@ -20,7 +20,7 @@ class OdometryService final : public v1::OdometryService::CallbackService {
   // `auth` (may be off) checks every call of this service; health is a separate service.
   OdometryService(const ServerConfig& config, WorkerPool& pool, ServerMetrics& metrics,
                   const TokenAuthenticator& auth);
-  ~OdometryService() override;  // stops the idle reaper
+  ~OdometryService() override;  // stops the reaper (idle sessions, memory when none is open)
 
   grpc::ServerBidiReactor<v1::TrackRequest, v1::TrackResponse>* Track(
       grpc::CallbackServerContext* context) override;
@@ -33,6 +33,7 @@ class OdometryService final : public v1::OdometryService::CallbackService {
   void beginDrain();
 
  private:
+  // Ends sessions past the idle timeout and, once no session is open, gives freed memory back.
   void reapIdleSessions();
   void sessionDone(Session* session);
   // OK, or the UNAUTHENTICATED status (counted) when the call's token does not pass.
@@ -46,6 +47,8 @@ class OdometryService final : public v1::OdometryService::CallbackService {
   std::condition_variable stop_cv_;
   bool stopping_ = false;
   bool draining_ = false;
+  // A session ended since memory was last given back (see releaseFreedMemory).
+  bool ended_since_release_ = false;
   std::set<Session*> sessions_;
   std::thread reaper_;
 };

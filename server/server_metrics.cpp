@@ -101,6 +101,13 @@ ServerMetrics::ServerMetrics(const std::string& version)
                         .Help("Frames received and waiting for a worker, over all sessions")
                         .Register(*registry_)
                         .Add({});
+  memory_releases_ = &BuildCounter()
+                          .Name("nidevo_memory_releases_total")
+                          .Help(
+                              "Times freed heap memory went back to the system, each when the "
+                              "last open session had ended")
+                          .Register(*registry_)
+                          .Add({});
   BuildGauge()
       .Name("nidevo_build_info")
       .Help("Always 1; the labels say which build is running")

@@ -37,6 +37,8 @@ class ServerMetrics {
   // A call refused for its bearer token: missing (or not "Bearer ...") or not accepted.
   void unauthenticated(bool missing) { unauthenticated_[missing ? 0 : 1]->Increment(); }
   void queuedFrames(double delta) { queued_frames_->Increment(delta); }
+  // The service gave freed heap memory back to the system (once the last open session ended).
+  void memoryReleased() { memory_releases_->Increment(); }
 
  private:
   std::shared_ptr<prometheus::Registry> registry_;
@@ -53,6 +55,7 @@ class ServerMetrics {
   std::array<prometheus::Counter*, 2> unauthenticated_{};  // [missing, wrong]
   prometheus::Gauge* active_sessions_ = nullptr;
   prometheus::Gauge* queued_frames_ = nullptr;
+  prometheus::Counter* memory_releases_ = nullptr;
 };
 
 }  // namespace nidevo::server

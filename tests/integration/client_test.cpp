@@ -122,6 +122,41 @@ TEST(ClientTools, LoadTestClosesItsAccountingAndReportsPercentiles) {
   std::filesystem::remove_all(dir);
 }
 
+// The first number after "key": in the load tester's JSON (one step).
+double jsonNumber(const std::string& json, const std::string& key) {
+  const size_t at = json.find("\"" + key + "\": ");
+  if (at == std::string::npos) throw std::runtime_error("no " + key + " in " + json);
+  return std::stod(json.substr(at + key.size() + 4));
+}
+
+// Three sessions as fast as the client can send against one worker: far beyond what it tracks.
+TEST(ClientTools, LoadTestUnderOverloadLatestAnswersEveryFrameAndBlockDropsNone) {
+  ServerProcess server({"--workers=1"});
+  const std::string dir = makeTempDir();
+  for (const std::string policy : {"latest", "block"}) {
+    std::string out;
+    const std::string json_path = dir + "/" + policy + ".json";
+    const int rc = runCommand(NIDEVO_BIN_DIR "/nidevo-client load --target " + server.target() +
+                                  " --sessions 3 --session_rate 0 --warmup_s 1 --duration_s 3 "
+                                  "--frames 20 --encoding raw --queue_capacity 1 --policy " +
+                                  policy + " --json " + json_path,
+                              &out);
+    ASSERT_EQ(rc, 0) << policy << ": " << out;
+    const std::string json = readText(json_path);
+    EXPECT_NE(json.find("\"accounting_closed\": true"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"sessions_ended\": {\"OK\": 3}"), std::string::npos) << json;
+    EXPECT_EQ(jsonNumber(json, "unanswered"), 0) << policy << ": " << json;
+    EXPECT_EQ(jsonNumber(json, "error"), 0) << policy << ": " << json;
+    EXPECT_GT(jsonNumber(json, "ok"), 0) << policy << ": " << json;
+    if (policy == "latest") {
+      EXPECT_GT(jsonNumber(json, "dropped"), 0) << json;  // old frames gave way to new ones
+    } else {
+      EXPECT_EQ(jsonNumber(json, "dropped"), 0) << json;
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ClientTools, HealthExitCodeFollowsTheServer) {
   std::string out;
   {
