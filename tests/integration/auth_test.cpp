@@ -66,6 +66,56 @@ TEST(Auth, EveryCallButHealthNeedsABearerTokenFromTheFile) {
     EXPECT_EQ(log.find(token), std::string::npos) << "a token in the log:\n" << log;
 }
 
+// The programs a user runs take the token from --token_file or NIDEVO_TOKEN_FILE: info, the load
+// tester, replay, and the Python example.
+TEST(Auth, ClientProgramsSendTheTokenOfTheirTokenFile) {
+  const std::string dir = makeTempDir(), tokens = dir + "/tokens", mine = dir + "/mine";
+  writeTokens(tokens, "secret-one\n");
+  writeTokens(mine, "secret-one\n");
+  ServerProcess server({"--token_file=" + tokens});
+  const std::string client = NIDEVO_BIN_DIR "/nidevo-client ";
+  const std::string at = " --target " + server.target();
+  std::string out;
+  EXPECT_NE(runCommand(client + "info" + at, &out), 0);
+  EXPECT_NE(out.find("UNAUTHENTICATED"), std::string::npos) << out;
+  EXPECT_EQ(runCommand(client + "info" + at + " --token_file " + mine, &out), 0) << out;
+  EXPECT_EQ(runCommand("NIDEVO_TOKEN_FILE=" + mine + " " + client + "info" + at, &out), 0) << out;
+  EXPECT_EQ(runCommand(client + "load" + at + " --token_file " + mine +
+                           " --sessions 1 --warmup_s 0 --duration_s 1 --frames 5 --encoding raw",
+                       &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("closed OK x1"), std::string::npos) << out;
+  EXPECT_EQ(runCommand(client + "replay" + at + " --token_file " + mine +
+                           " --frames 5 --encoding raw --out " + dir + "/poses.txt",
+                       &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("5 answered"), std::string::npos) << out;
+
+  // The Python example, when its gRPC packages are installed (the test command installs them).
+  if (runCommand("/usr/bin/python3 -c 'import grpc_tools'", &out) == 0) {
+    ASSERT_EQ(runCommand("/usr/bin/python3 -m grpc_tools.protoc -I" NIDEVO_SOURCE_DIR
+                         "/proto --python_out=" +
+                             dir + " --grpc_python_out=" + dir +
+                             " " NIDEVO_SOURCE_DIR "/proto/nidevo/v1/odometry.proto",
+                         &out),
+              0)
+        << out;
+    const std::string folder = dir + "/office";
+    ASSERT_EQ(runCommand(NIDEVO_BIN_DIR "/nidevo-synth --frames 5 --out " + folder, &out), 0)
+        << out;
+    const std::string python = "PYTHONPATH=" + dir +
+                               " /usr/bin/python3 " NIDEVO_SOURCE_DIR
+                               "/client/python/nidevo_stream.py" +
+                               at + " --folder " + folder;
+    EXPECT_NE(runCommand(python, &out), 0) << out;
+    EXPECT_EQ(runCommand(python + " --token_file " + mine, &out), 0) << out;
+  }
+  EXPECT_EQ(unauthenticated(server, "wrong"), 0);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Auth, SighupReloadsTheTokensWithoutDroppingOpenSessions) {
   const std::string dir = makeTempDir(), tokens = dir + "/tokens";
   writeTokens(tokens, "before\n");
