@@ -93,6 +93,10 @@ Client::Client(const ChannelOptions& options) : options_(options) {
 
 void Client::prepare(grpc::ClientContext* context) const {
   context->set_deadline(after(options_.connect_timeout_s));
+  addToken(context);
+}
+
+void Client::addToken(grpc::ClientContext* context) const {
   if (!options_.bearer_token.empty())
     context->AddMetadata("authorization", "Bearer " + options_.bearer_token);
 }
@@ -121,8 +125,7 @@ std::unique_ptr<Session> Client::open(const SessionOptions& options, ResponseCal
                              std::to_string(options_.connect_timeout_s) + " s");
   std::unique_ptr<Session> session(new Session());
   if (options.deadline_s > 0) session->context_.set_deadline(after(options.deadline_s));
-  if (!options_.bearer_token.empty())
-    session->context_.AddMetadata("authorization", "Bearer " + options_.bearer_token);
+  addToken(&session->context_);
   session->stream_ = stub_->Track(&session->context_);
   auto* config = session->request_.mutable_config();
   auto* camera = config->mutable_camera();

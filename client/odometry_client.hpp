@@ -90,6 +90,8 @@ class Client {
  private:
   // The connect deadline and the bearer token, on a unary call's context.
   void prepare(grpc::ClientContext* context) const;
+  // The "authorization: Bearer" metadata when the options hold a token; streams and unary calls.
+  void addToken(grpc::ClientContext* context) const;
 
   ChannelOptions options_;
   std::shared_ptr<grpc::Channel> channel_;

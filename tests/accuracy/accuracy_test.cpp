@@ -106,7 +106,9 @@ TEST(Accuracy, FewerThanTwoPlanesIsFlaggedAndTrackingRecovers) {
     // it leaves free is the KCC's, measured); silent_failures below says those were right.
     if (p.state == TrackingState::kOk) {
       EXPECT_TRUE(p.verification.passed) << p.frame_index;
-      if (p.verification.free_rotation) EXPECT_GE(p.verification.confirmed_directions, 1);
+      if (p.verification.free_rotation) {
+        EXPECT_GE(p.verification.confirmed_directions, 1);
+      }
     } else {
       EXPECT_NE(std::string(p.reason), "");
       ++flagged;
