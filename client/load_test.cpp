@@ -215,6 +215,10 @@ LoadTestResult runLoadTest(const LoadTestConfig& config, const std::vector<v1::F
       buckets[bound] = value - valueOf(before, series);
     }
     result.server_p99_latency_s = histogramQuantile(0.99, buckets);
+    // Everything the server process did in the interval, dropped frames' reception included,
+    // over the frames it tracked.
+    result.server_cpu_s = delta(after, before, "process_cpu_seconds_total");
+    if (count > 0) result.server_cpu_s_per_tracked_frame = result.server_cpu_s / count;
   }
   return result;
 }
@@ -250,9 +254,10 @@ std::string formatTable(const std::vector<LoadTestResult>& steps) {
     if (r.have_server_view) {
       std::snprintf(line, sizeof(line),
                     "server view, %d sessions: %.0f frames answered, mean %.2f ms, p99 %.2f ms "
-                    "(arrival to answer, from /metrics)\n",
+                    "(arrival to answer, from /metrics); CPU %.2f s, %.2f ms per tracked frame\n",
                     r.sessions, r.server_frames, 1e3 * r.server_mean_latency_s,
-                    1e3 * r.server_p99_latency_s);
+                    1e3 * r.server_p99_latency_s, r.server_cpu_s,
+                    1e3 * r.server_cpu_s_per_tracked_frame);
       out << line;
     }
   }
@@ -263,14 +268,15 @@ std::string formatCsv(const std::vector<LoadTestResult>& steps) {
   std::ostringstream out;
   out << "sessions,window_s,poses_per_s,p50_s,p90_s,p95_s,p99_s,max_s,sent,ok,degraded,lost,"
          "dropped,error,unanswered,accounting_closed,stable,server_frames,server_mean_s,"
-         "server_p99_s\n";
+         "server_p99_s,server_cpu_s,server_cpu_s_per_tracked_frame\n";
   for (const auto& r : steps)
     out << r.sessions << ',' << r.window_s << ',' << r.poses_per_s << ',' << r.latency.p50 << ','
         << r.latency.p90 << ',' << r.latency.p95 << ',' << r.latency.p99 << ',' << r.latency.max
         << ',' << r.sent << ',' << r.ok << ',' << r.degraded << ',' << r.lost << ',' << r.dropped
         << ',' << r.error << ',' << r.unanswered << ',' << (r.accounting_closed ? 1 : 0) << ','
         << (r.stable ? 1 : 0) << ',' << r.server_frames << ',' << r.server_mean_latency_s << ','
-        << r.server_p99_latency_s << '\n';
+        << r.server_p99_latency_s << ',' << r.server_cpu_s << ','
+        << r.server_cpu_s_per_tracked_frame << '\n';
   return out.str();
 }
 
@@ -297,7 +303,8 @@ std::string formatJson(const std::vector<LoadTestResult>& steps) {
     if (r.have_server_view)
       out << ", \"server\": {\"frames\": " << r.server_frames
           << ", \"mean_latency_s\": " << r.server_mean_latency_s
-          << ", \"p99_latency_s\": " << r.server_p99_latency_s << "}";
+          << ", \"p99_latency_s\": " << r.server_p99_latency_s << ", \"cpu_s\": " << r.server_cpu_s
+          << ", \"cpu_s_per_tracked_frame\": " << r.server_cpu_s_per_tracked_frame << "}";
     out << "}" << (i + 1 < steps.size() ? "," : "") << "\n";
   }
   out << "]\n";

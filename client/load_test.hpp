@@ -47,6 +47,8 @@ struct LoadTestResult {
   double server_frames = 0;
   double server_mean_latency_s = 0;
   double server_p99_latency_s = 0;  // from histogram buckets, as histogram_quantile does
+  double server_cpu_s = 0;          // process_cpu_seconds_total
+  double server_cpu_s_per_tracked_frame = 0;
 };
 
 // Runs one step. `frames` are pre-encoded; sequence numbers and timestamps are rewritten.

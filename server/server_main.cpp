@@ -20,6 +20,7 @@
 #include "nidevo/odometry/camera.hpp"
 #include "nidevo/odometry/odometry.hpp"
 #include "odometry_service.hpp"
+#include "process_metrics.hpp"
 #include "prometheus/exposer.h"
 #include "server_config.hpp"
 #include "server_metrics.hpp"
@@ -173,6 +174,9 @@ int serveMetrics(const ServerConfig& config, nidevo::server::ServerMetrics& metr
     return -1;
   }
   (*exposer)->RegisterCollectable(metrics.registry());
+  // The exposer keeps a weak pointer; the collector lives as long as the process.
+  static const auto process = std::make_shared<nidevo::server::ProcessCollector>();
+  (*exposer)->RegisterCollectable(process);
   return (*exposer)->GetListeningPorts().at(0);
 }
 

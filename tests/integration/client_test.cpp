@@ -45,6 +45,13 @@ std::string readText(const std::string& path) {
   return s.str();
 }
 
+// The first number after "key": in the load tester's JSON (one step).
+double jsonNumber(const std::string& json, const std::string& key) {
+  const size_t at = json.find("\"" + key + "\": ");
+  if (at == std::string::npos) throw std::runtime_error("no " + key + " in " + json);
+  return std::stod(json.substr(at + key.size() + 4));
+}
+
 // The "rmse" line of the APE table.
 std::string apeRmse(const std::string& report) {
   const size_t ape = report.find("APE");
@@ -115,18 +122,14 @@ TEST(ClientTools, LoadTestClosesItsAccountingAndReportsPercentiles) {
   const long sent = std::stol(json.substr(sent_at + 8));
   EXPECT_GT(sent, 3);
   EXPECT_LE(sent, 3 * 30 * 4 * 11 / 10);
+  // The server's CPU time over the step, from its process_cpu_seconds_total.
+  EXPECT_GT(jsonNumber(json, "cpu_s_per_tracked_frame"), 0) << json;
+  EXPECT_NE(out.find("ms per tracked frame"), std::string::npos) << out;
   const size_t p50_at = json.find("\"p50\": ");
   EXPECT_GT(std::stod(json.substr(p50_at + 7)), 0.0);
   const std::string csv = readText(dir + "/load.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2) << csv;  // header + one step
   std::filesystem::remove_all(dir);
-}
-
-// The first number after "key": in the load tester's JSON (one step).
-double jsonNumber(const std::string& json, const std::string& key) {
-  const size_t at = json.find("\"" + key + "\": ");
-  if (at == std::string::npos) throw std::runtime_error("no " + key + " in " + json);
-  return std::stod(json.substr(at + key.size() + 4));
 }
 
 // Three sessions as fast as the client can send against one worker: far beyond what it tracks.

@@ -77,6 +77,26 @@ TEST(Metrics, CountersAddUpToTheFramesSent) {
     EXPECT_EQ(entry.first.find("session_id"), std::string::npos) << entry.first;
 }
 
+// The Prometheus client conventions' process metrics, read from the server's /proc entry.
+TEST(Metrics, ProcessMetricsArePlausibleAndCpuTimeGrowsUnderLoad) {
+  ServerProcess server;
+  const auto before = client::parsePrometheusText(client::httpGet(server.metricsUrl()));
+  driveServer(server);
+  const auto after = client::parsePrometheusText(client::httpGet(server.metricsUrl()));
+  EXPECT_GT(valueOf(after, "process_cpu_seconds_total"),
+            valueOf(before, "process_cpu_seconds_total"));  // 10 tracked VGA frames
+  EXPECT_GT(valueOf(after, "process_resident_memory_bytes"), 10e6);
+  EXPECT_GE(valueOf(after, "process_virtual_memory_bytes"),
+            valueOf(after, "process_resident_memory_bytes"));
+  EXPECT_GE(valueOf(after, "process_open_fds"), 4);  // std streams and the listening sockets
+  EXPECT_GE(valueOf(after, "process_max_fds"), valueOf(after, "process_open_fds"));
+  const double now = double(std::chrono::duration_cast<std::chrono::seconds>(
+                                std::chrono::system_clock::now().time_since_epoch())
+                                .count());
+  EXPECT_LE(valueOf(after, "process_start_time_seconds"), now + 1);
+  EXPECT_GT(valueOf(after, "process_start_time_seconds"), now - 120);  // started by this test
+}
+
 TEST(Metrics, PromtoolAcceptsTheExposition) {
   ServerProcess server;
   driveServer(server);
