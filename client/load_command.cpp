@@ -8,6 +8,7 @@
 #include "absl/strings/str_split.h"
 #include "client_flags.hpp"
 #include "commands.hpp"
+#include "cpu_affinity.hpp"
 #include "frame_encoder.hpp"
 #include "load_test.hpp"
 #include "nidevo/cli/cli.hpp"
@@ -24,6 +25,10 @@ ABSL_FLAG(std::string, metrics_url, "",
           "load: the server's /metrics URL, scraped before and after each step");
 ABSL_FLAG(std::string, csv, "", "load: also write the results as CSV here");
 ABSL_FLAG(std::string, json, "", "load: also write the results as JSON here");
+ABSL_FLAG(bool, shared_channel, false,
+          "load: every session on one channel (one HTTP/2 connection) instead of one channel each");
+ABSL_FLAG(std::string, cpus, "",
+          "load: pin the load tester to these CPUs (e.g. 0 or 0,2-3), to keep it off the server's");
 
 namespace nidevo::client {
 
@@ -51,6 +56,10 @@ void writeFile(const std::string& path, const std::string& text) {
 
 int loadCommand() {
   const std::vector<int> steps = parseSessionList(absl::GetFlag(FLAGS_sessions));
+  if (const std::string cpus = absl::GetFlag(FLAGS_cpus); !cpus.empty()) {
+    pinProcessToCpus(parseCpuList(cpus));  // before any thread starts: all of them inherit it
+    std::printf("load: pinned to CPUs %s\n", formatCpuList(allowedCpus()).c_str());
+  }
   const FrameEncoding encoding = frameEncodingFromFlags();
   cli::SequenceSource source = cli::sequenceSourceFromFlags();
   const int keep = absl::GetFlag(FLAGS_load_frames);
@@ -69,14 +78,16 @@ int loadCommand() {
   config.warmup_s = absl::GetFlag(FLAGS_warmup_s);
   config.duration_s = absl::GetFlag(FLAGS_duration_s);
   config.metrics_url = absl::GetFlag(FLAGS_metrics_url);
+  config.shared_channel = absl::GetFlag(FLAGS_shared_channel);
   std::printf(
-      "load: %zu frames of %s (%dx%d, %s) looped, %s per session, %.0f s warm-up + %.0f s "
+      "load: %zu frames of %s (%dx%d, %s) looped, %s per session, %s, %.0f s warm-up + %.0f s "
       "window per step\n",
       frames.size(), sequence.name.c_str(), sequence.camera.width, sequence.camera.height,
       encodingName().c_str(),
       config.rate_hz > 0 ? (std::to_string(int(config.rate_hz)) + " Hz").c_str()
                          : "as fast as possible",
-      config.warmup_s, config.duration_s);
+      config.shared_channel ? "one shared channel" : "a channel per session", config.warmup_s,
+      config.duration_s);
   std::fflush(stdout);
 
   std::vector<LoadTestResult> results;

@@ -5,10 +5,13 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <thread>
 #include <unordered_map>
+
+#include "cpu_affinity.hpp"
 
 namespace nidevo::client {
 
@@ -32,9 +35,12 @@ struct Window {
   Clock::time_point start, end;
 };
 
+// `shared`: the one channel of every session, or null for a channel of the session's own.
 void runSession(const LoadTestConfig& config, const std::vector<v1::Frame>& frames,
-                Clock::time_point t0, const Window& window, SessionRun* run) {
-  Client client(config.channel);
+                Clock::time_point t0, const Window& window, Client* shared, SessionRun* run) {
+  std::unique_ptr<Client> own;
+  if (!shared) own = std::make_unique<Client>(config.channel);
+  Client& client = shared ? *shared : *own;
   auto on_answer = [run, &window](const v1::TrackResponse& r) {
     const Clock::time_point now = Clock::now();
     std::lock_guard<std::mutex> lock(run->mutex);
@@ -151,6 +157,10 @@ LoadTestResult runLoadTest(const LoadTestConfig& config, const std::vector<v1::F
   if (!(config.duration_s > 0)) throw std::invalid_argument("duration_s: must be positive");
   MetricSamples before;
   if (!config.metrics_url.empty()) before = parsePrometheusText(httpGet(config.metrics_url));
+  const double tester_cpu_before = processCpuSeconds();
+  const Clock::time_point step_start = Clock::now();
+  std::unique_ptr<Client> shared;
+  if (config.shared_channel) shared = std::make_unique<Client>(config.channel);
 
   std::vector<SessionRun> runs(size_t(config.sessions));
   const Clock::time_point t0 = Clock::now() + std::chrono::milliseconds(100);
@@ -159,10 +169,13 @@ LoadTestResult runLoadTest(const LoadTestConfig& config, const std::vector<v1::F
   window.end = window.start + std::chrono::microseconds(int64_t(config.duration_s * 1e6));
   std::vector<std::thread> threads;
   for (auto& run : runs)
-    threads.emplace_back([&, r = &run] { runSession(config, frames, t0, window, r); });
+    threads.emplace_back(
+        [&, r = &run] { runSession(config, frames, t0, window, shared.get(), r); });
   for (auto& t : threads) t.join();
 
   LoadTestResult result;
+  result.tester_cpu_s = processCpuSeconds() - tester_cpu_before;
+  result.step_s = seconds(Clock::now() - step_start);
   result.sessions = config.sessions;
   result.window_s = config.duration_s;
   std::vector<double> latencies;
@@ -251,6 +264,10 @@ std::string formatTable(const std::vector<LoadTestResult>& steps) {
                   (unsigned long long)r.unanswered,
                   r.accounting_closed ? "" : "  <-- DOES NOT ADD UP");
     out << line;
+    std::snprintf(line, sizeof(line),
+                  "load tester, %d sessions: %.2f CPU s in %.1f s (%.2f cores)\n", r.sessions,
+                  r.tester_cpu_s, r.step_s, r.step_s > 0 ? r.tester_cpu_s / r.step_s : 0.0);
+    out << line;
     if (r.have_server_view) {
       std::snprintf(line, sizeof(line),
                     "server view, %d sessions: %.0f frames answered, mean %.2f ms, p99 %.2f ms "
@@ -268,7 +285,7 @@ std::string formatCsv(const std::vector<LoadTestResult>& steps) {
   std::ostringstream out;
   out << "sessions,window_s,poses_per_s,p50_s,p90_s,p95_s,p99_s,max_s,sent,ok,degraded,lost,"
          "dropped,error,unanswered,accounting_closed,stable,server_frames,server_mean_s,"
-         "server_p99_s,server_cpu_s,server_cpu_s_per_tracked_frame\n";
+         "server_p99_s,server_cpu_s,server_cpu_s_per_tracked_frame,tester_cpu_s,step_s\n";
   for (const auto& r : steps)
     out << r.sessions << ',' << r.window_s << ',' << r.poses_per_s << ',' << r.latency.p50 << ','
         << r.latency.p90 << ',' << r.latency.p95 << ',' << r.latency.p99 << ',' << r.latency.max
@@ -276,7 +293,7 @@ std::string formatCsv(const std::vector<LoadTestResult>& steps) {
         << ',' << r.error << ',' << r.unanswered << ',' << (r.accounting_closed ? 1 : 0) << ','
         << (r.stable ? 1 : 0) << ',' << r.server_frames << ',' << r.server_mean_latency_s << ','
         << r.server_p99_latency_s << ',' << r.server_cpu_s << ','
-        << r.server_cpu_s_per_tracked_frame << '\n';
+        << r.server_cpu_s_per_tracked_frame << ',' << r.tester_cpu_s << ',' << r.step_s << '\n';
   return out.str();
 }
 
@@ -295,7 +312,9 @@ std::string formatJson(const std::vector<LoadTestResult>& steps) {
         << ", \"dropped\": " << r.dropped << ", \"error\": " << r.error
         << ", \"unanswered\": " << r.unanswered
         << ", \"accounting_closed\": " << (r.accounting_closed ? "true" : "false")
-        << ", \"stable\": " << (r.stable ? "true" : "false") << ", \"sessions_ended\": {";
+        << ", \"stable\": " << (r.stable ? "true" : "false")
+        << ", \"tester_cpu_s\": " << r.tester_cpu_s << ", \"step_s\": " << r.step_s
+        << ", \"sessions_ended\": {";
     size_t k = 0;
     for (const auto& [code, n] : r.session_status)
       out << (k++ ? ", " : "") << '"' << code << "\": " << n;

@@ -19,6 +19,9 @@ struct LoadTestConfig {
   double warmup_s = 2;
   double duration_s = 10;   // measurement window after the warm-up
   std::string metrics_url;  // optional: the server's /metrics, scraped before and after
+  // All sessions on one channel (one HTTP/2 connection), as one client process with many
+  // streams; otherwise one channel each, as separate devices.
+  bool shared_channel = false;
 };
 
 struct LatencySummary {
@@ -49,6 +52,10 @@ struct LoadTestResult {
   double server_p99_latency_s = 0;  // from histogram buckets, as histogram_quantile does
   double server_cpu_s = 0;          // process_cpu_seconds_total
   double server_cpu_s_per_tracked_frame = 0;
+  // The load tester's own cost over the step (warm-up included), to see how much of a shared
+  // machine it took.
+  double tester_cpu_s = 0;
+  double step_s = 0;  // wall time of the step
 };
 
 // Runs one step. `frames` are pre-encoded; sequence numbers and timestamps are rewritten.

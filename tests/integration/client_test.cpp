@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cpu_affinity.hpp"
 #include "nidevo/io/trajectory.hpp"
 #include "server_process.hpp"
 #include "service_fixtures.hpp"
@@ -129,6 +130,29 @@ TEST(ClientTools, LoadTestClosesItsAccountingAndReportsPercentiles) {
   EXPECT_GT(std::stod(json.substr(p50_at + 7)), 0.0);
   const std::string csv = readText(dir + "/load.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2) << csv;  // header + one step
+  std::filesystem::remove_all(dir);
+}
+
+// Many streams on one HTTP/2 connection, the tester pinned to one CPU and saying what it cost.
+TEST(ClientTools, LoadTestOnOneSharedChannelPinnedToACpu) {
+  ServerProcess server;
+  const std::string dir = makeTempDir();
+  std::string out;
+  const std::string load = NIDEVO_BIN_DIR "/nidevo-client load --target " + server.target() +
+                           " --sessions 3 --warmup_s 0 --duration_s 2 --frames 10 --encoding raw";
+  const std::string cpu = std::to_string(client::allowedCpus().front());
+  ASSERT_EQ(
+      runCommand(load + " --shared_channel --cpus " + cpu + " --json " + dir + "/load.json", &out),
+      0)
+      << out;
+  EXPECT_NE(out.find("pinned to CPUs " + cpu + "\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("one shared channel"), std::string::npos) << out;
+  EXPECT_NE(out.find("closed OK x3"), std::string::npos) << out;
+  const std::string json = readText(dir + "/load.json");
+  EXPECT_GT(jsonNumber(json, "tester_cpu_s"), 0) << json;
+  EXPECT_GT(jsonNumber(json, "step_s"), 1.9) << json;
+  EXPECT_NE(runCommand(load + " --cpus 0-x", &out), 0);
+  EXPECT_NE(out.find("--cpus: '0-x'"), std::string::npos) << out;
   std::filesystem::remove_all(dir);
 }
 
