@@ -23,20 +23,23 @@ void FramePipeline::admit(v1::Frame* frame, Clock::time_point arrival) {
     std::ostringstream why;
     why.precision(17);
     why << "frame.timestamp: " << t << " does not increase (previous " << last_timestamp_ << ")";
-    hooks_.answer(rejectionResponse(*frame, v1::FRAME_STATUS_ERROR, why.str()));
+    v1::TrackResponse rejection = rejectionResponse(*frame, v1::FRAME_STATUS_ERROR, why.str());
+    hooks_.answer(&rejection);
     return;
   }
   have_timestamp_ = true;
   last_timestamp_ = t;
   if (policy_ == Policy::kLatest && !queue_.empty() && queue_.size() >= queue_capacity_) {
-    hooks_.answer(rejectionResponse(queue_.front().frame, v1::FRAME_STATUS_DROPPED,
-                                    "dropped: session queue full (overload policy LATEST)"));
-    queue_.pop_front();
+    v1::TrackResponse dropped =
+        rejectionResponse(queue_.front().frame, v1::FRAME_STATUS_DROPPED,
+                          "dropped: session queue full (overload policy LATEST)");
+    hooks_.answer(&dropped);
+    queue_.popFront();
     hooks_.queue_changed(-1);
   }
-  queue_.emplace_back();
-  queue_.back().frame.Swap(frame);
-  queue_.back().arrival = arrival;
+  Queued& entry = queue_.pushBack();
+  entry.frame.Swap(frame);  // `frame` takes the entry's old buffers, for its next message
+  entry.arrival = arrival;
   hooks_.queue_changed(+1);
 }
 
@@ -74,7 +77,7 @@ void FramePipeline::startFreeSlots() {
     FrameJob& job = slot->job;
     job.frame.Swap(&queue_.front().frame);
     job.arrival = queue_.front().arrival;
-    queue_.pop_front();
+    queue_.popFront();
     hooks_.queue_changed(-1);
     job.ticket = next_ticket_++;
     job.state.frame_index = job.ticket;
@@ -107,7 +110,9 @@ bool FramePipeline::startTranslation() {
   Slot* slot = slotAt(next_translation_, SlotStage::kRotated);
   if (!slot) return false;
   if (!slot->job.error.empty()) {
-    hooks_.answer(rejectionResponse(slot->job.frame, v1::FRAME_STATUS_ERROR, slot->job.error));
+    v1::TrackResponse rejection =
+        rejectionResponse(slot->job.frame, v1::FRAME_STATUS_ERROR, slot->job.error);
+    hooks_.answer(&rejection);
     slot->stage = SlotStage::kFree;
     ++next_translation_;
     return true;
@@ -174,12 +179,12 @@ void FramePipeline::runRotate(Slot* slot) {
 }
 
 void FramePipeline::runTranslate(Slot* slot) {
-  v1::TrackResponse response = stages_->translate(&slot->job);
+  stages_->translate(&slot->job);
   std::unique_lock<std::mutex> lock(*mutex_);
   slot->stage = SlotStage::kFree;
   translation_running_ = false;
   ++next_translation_;
-  hooks_.answer(std::move(response));
+  hooks_.answer(&slot->job.response);
   hooks_.task_done(std::move(lock));
 }
 

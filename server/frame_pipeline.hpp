@@ -8,7 +8,6 @@
 // the stage work runs without it, in tasks the owner's executor runs later.
 #include <chrono>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -17,6 +16,7 @@
 
 #include "nidevo/odometry/odometry.hpp"
 #include "nidevo/v1/odometry.pb.h"
+#include "recycling_queue.hpp"
 
 namespace nidevo::server {
 
@@ -32,6 +32,7 @@ struct FrameJob {
   std::string error;  // set by stage 1 when the frame cannot be used: answered ERROR
   double queue_s = 0;
   double decode_s = 0;
+  v1::TrackResponse response;  // stage 3's answer; reused from frame to frame
 };
 
 // The per-frame work, run without the lock. prepare() may run for several jobs at once;
@@ -39,16 +40,17 @@ struct FrameJob {
 class FrameStages {
  public:
   virtual ~FrameStages() = default;
-  virtual void prepare(FrameJob* job) = 0;  // stage 1 (decode, normals); job->error if unusable
-  virtual void rotate(FrameJob* job) = 0;   // stage 2
-  virtual v1::TrackResponse translate(FrameJob* job) = 0;  // stage 3: the frame's answer
+  virtual void prepare(FrameJob* job) = 0;    // stage 1 (decode, normals); job->error if unusable
+  virtual void rotate(FrameJob* job) = 0;     // stage 2
+  virtual void translate(FrameJob* job) = 0;  // stage 3: the frame's answer in job->response
 };
 
 struct FramePipelineHooks {
   // Runs `task` later on some thread; never inline, the caller holds the lock.
   std::function<void(std::function<void()>)> run_task;
-  // With the lock held: one answer per admitted frame (also DROPPED and ERROR ones).
-  std::function<void(v1::TrackResponse)> answer;
+  // With the lock held: one answer per admitted frame (also DROPPED and ERROR ones). The owner
+  // may swap the message's contents out (ResponseQueue::push) and leave others in their place.
+  std::function<void(v1::TrackResponse*)> answer;
   // With the lock held: the queue's length changed by `delta`.
   std::function<void(int delta)> queue_changed;
   // With the lock held: the queue shrank while a task goes on (a BLOCK reader may resume).
@@ -108,7 +110,7 @@ class FramePipeline {
   bool stopped_ = false;
   bool have_timestamp_ = false;
   double last_timestamp_ = 0;
-  std::deque<Queued> queue_;
+  RecyclingQueue<Queued> queue_;  // its frames' byte buffers go round: no allocation per frame
   std::vector<std::unique_ptr<Slot>> slots_;
   uint64_t next_ticket_ = 0;       // given to the next frame entering stage 1
   uint64_t next_rotation_ = 0;     // ticket stage 2 takes next

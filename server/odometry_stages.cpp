@@ -37,9 +37,9 @@ void OdometryStages::prepare(FrameJob* job) {
 
 void OdometryStages::rotate(FrameJob* job) { odometry_->estimateRotation(&job->state); }
 
-v1::TrackResponse OdometryStages::translate(FrameJob* job) {
+void OdometryStages::translate(FrameJob* job) {
   const PoseEstimate pose = odometry_->estimateTranslation(&job->state);
-  v1::TrackResponse response;
+  v1::TrackResponse& response = job->response;
   fillPoseResponse(job->frame, pose, world_from_first_, &response);
   auto* t = response.mutable_timings();
   t->set_queue(job->queue_s);
@@ -47,7 +47,6 @@ v1::TrackResponse OdometryStages::translate(FrameJob* job) {
   const double total = secondsBetween(job->arrival, Clock::now());
   t->set_total(total);
   observe(*job, pose, total);
-  return response;
 }
 
 void OdometryStages::observe(const FrameJob& job, const PoseEstimate& pose, double total_s) {

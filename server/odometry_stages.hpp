@@ -19,7 +19,7 @@ class OdometryStages final : public FrameStages {
 
   void prepare(FrameJob* job) override;
   void rotate(FrameJob* job) override;
-  v1::TrackResponse translate(FrameJob* job) override;
+  void translate(FrameJob* job) override;
 
  private:
   void observe(const FrameJob& job, const PoseEstimate& pose, double total_s);

@@ -91,6 +91,8 @@ void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose,
     check->set_constrained_directions(v.constrained_directions);
     check->set_depth_constrained_directions(v.depth_constrained_directions);
     check->set_confirmed_directions(v.confirmed_directions);
+  } else {
+    out->clear_check();
   }
   auto* times = out->mutable_timings();
   times->set_normals(pose.times.normals_s);

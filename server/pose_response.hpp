@@ -10,6 +10,7 @@ namespace nidevo::server {
 
 // Sets everything but the queue/decode/total timings, which only the session knows. The pose is
 // reported as world_from_first * pose.T_world_cam (the session's initial pose, identity if none).
+// `out` may hold an earlier answer: every field is overwritten (its buffers are reused).
 void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose,
                       const Eigen::Isometry3d& world_from_first, v1::TrackResponse* out);
 

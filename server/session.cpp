@@ -125,7 +125,7 @@ void Session::startPipeline(std::shared_ptr<const FrameDecoder> decoder,
                                              world_from_first_);
   FramePipelineHooks hooks;
   hooks.run_task = [this](std::function<void()> task) { runTask(std::move(task)); };
-  hooks.answer = [this](v1::TrackResponse response) { answer(std::move(response)); };
+  hooks.answer = [this](v1::TrackResponse* response) { answer(response); };
   hooks.queue_changed = [this](int delta) { env_.metrics->queuedFrames(delta); };
   hooks.queue_drained = [this] { startReadIfWanted(); };
   hooks.task_done = [this](std::unique_lock<std::mutex> lock) { taskDone(std::move(lock)); };
@@ -160,24 +160,24 @@ void Session::startReadIfWanted() {
   StartRead(&read_msg_);
 }
 
-void Session::answer(v1::TrackResponse response) {
-  env_.metrics->frame(outcomeOf(response.status()));
+void Session::answer(v1::TrackResponse* response) {
+  env_.metrics->frame(outcomeOf(response->status()));
   if (finish_pending_ || finish_called_) return;
   ++answered_;
-  out_.push_back(std::move(response));
+  out_.push(response);
   pumpWrites();
 }
 
 void Session::pumpWrites() {
   if (writing_ || out_.empty() || finish_called_) return;
   writing_ = true;
-  StartWrite(&out_.front());  // deque: the element stays put until OnWriteDone pops it
+  StartWrite(&out_.front());  // it stays put until OnWriteDone pops it
 }
 
 void Session::OnWriteDone(bool ok) {
   std::lock_guard<std::mutex> lock(mutex_);
   writing_ = false;
-  if (!out_.empty()) out_.pop_front();
+  if (!out_.empty()) out_.popFront();
   if (!ok) {  // the stream broke; OnCancel follows
     out_.clear();
     read_closed_ = true;
@@ -196,8 +196,8 @@ void Session::finish(grpc::Status status) {
   finish_pending_ = status;
   if (pipeline_) pipeline_->stop();
   if (writing_) {
-    out_.erase(out_.begin() + 1, out_.end());  // the first is being written
-    return;                                    // OnWriteDone finishes
+    out_.keepFront();  // the first is being written
+    return;            // OnWriteDone finishes
   }
   out_.clear();
   callFinish();

@@ -6,7 +6,6 @@
 #include <grpcpp/grpcpp.h>
 
 #include <chrono>
-#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -18,6 +17,7 @@
 #include "nidevo/odometry/odometry.hpp"
 #include "nidevo/v1/odometry.grpc.pb.h"
 #include "odometry_stages.hpp"
+#include "response_queue.hpp"
 #include "server_config.hpp"
 #include "server_metrics.hpp"
 #include "worker_pool.hpp"
@@ -51,7 +51,7 @@ class Session final : public grpc::ServerBidiReactor<v1::TrackRequest, v1::Track
   void startPipeline(std::shared_ptr<const FrameDecoder> decoder,
                      std::unique_ptr<Odometry> odometry);
   void startReadIfWanted();
-  void answer(v1::TrackResponse response);
+  void answer(v1::TrackResponse* response);
   void pumpWrites();
   void finish(grpc::Status status);
   void callFinish();  // Finish(*finish_pending_), counted and logged
@@ -82,7 +82,7 @@ class Session final : public grpc::ServerBidiReactor<v1::TrackRequest, v1::Track
   std::unique_ptr<OdometryStages> stages_;
   std::unique_ptr<FramePipeline> pipeline_;
 
-  std::deque<v1::TrackResponse> out_;
+  ResponseQueue out_;
   bool writing_ = false;
 };
 

@@ -129,9 +129,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Owner owner;
   FramePipelineHooks hooks;
   hooks.run_task = [&owner](std::function<void()> task) { owner.tasks.push_back(std::move(task)); };
-  hooks.answer = [&owner](v1::TrackResponse r) {
-    checkAnswer(r);
-    ++owner.answers[r.sequence()];
+  hooks.answer = [&owner](v1::TrackResponse* r) {
+    checkAnswer(*r);
+    ++owner.answers[r->sequence()];
   };
   hooks.queue_changed = [](int) {};
   hooks.queue_drained = [] {};

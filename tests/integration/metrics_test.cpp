@@ -52,7 +52,13 @@ int driveServer(ServerProcess& server) {
 TEST(Metrics, CountersAddUpToTheFramesSent) {
   ServerProcess server;
   const int sent = driveServer(server);
-  const auto m = client::parsePrometheusText(client::httpGet(server.metricsUrl()));
+  // The client has its status before the server's OnDone frees the session: wait for that.
+  auto scrape = [&] { return client::parsePrometheusText(client::httpGet(server.metricsUrl())); };
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (valueOf(scrape(), "nidevo_active_sessions") != 0 &&
+         std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const auto m = scrape();
   EXPECT_EQ(sumOf(m, "nidevo_frames_total"), sent);
   EXPECT_EQ(valueOf(m, "nidevo_frames_total{outcome=\"error\"}"), 2);
   const double tracked = sent - 2;

@@ -9,6 +9,7 @@ DepthShift DepthShiftEstimator::estimate(const OrthoImage& key, const OrthoImage
                                          double dv, const DepthShiftParams& p) {
   const int W = key.width, H = key.height;
   diffs_.resize(size_t(W) * size_t(H));
+  scratch_.reserve(diffs_.size());  // its size follows the inlier count: never grow per frame
   kth_smallest_.reserve(diffs_.size());
   size_t n = 0;
   const int iu = int(std::floor(du)), iv = int(std::floor(dv));

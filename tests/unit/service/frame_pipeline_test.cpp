@@ -64,14 +64,12 @@ class RecordingStages final : public FrameStages {
     record("rotate", *job);
     --rotating_;
   }
-  v1::TrackResponse translate(FrameJob* job) override {
+  void translate(FrameJob* job) override {
     EXPECT_EQ(++translating_, 1) << "two stage-3 calls at once";
     record("translate", *job);
     --translating_;
-    v1::TrackResponse r;
-    r.set_sequence(job->frame.sequence());
-    r.set_status(v1::FRAME_STATUS_OK);
-    return r;
+    job->response.set_sequence(job->frame.sequence());
+    job->response.set_status(v1::FRAME_STATUS_OK);
   }
   std::vector<uint64_t> sequencesOf(const std::string& stage) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -100,8 +98,8 @@ struct Harness {
           std::function<void(std::function<void()>)> run_task) {
     FramePipelineHooks hooks;
     hooks.run_task = std::move(run_task);
-    hooks.answer = [this](v1::TrackResponse r) {
-      answers.push_back(std::move(r));
+    hooks.answer = [this](v1::TrackResponse* r) {
+      answers.push_back(*r);
       changed.notify_all();
     };
     hooks.queue_changed = [this](int delta) { queued += delta; };
