@@ -1,26 +1,13 @@
 // Steady state allocates nothing: counts global operator new calls over 100 frames after warm-up.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
+#include "counting_new.hpp"
 #include "nidevo/io/camera_io.hpp"
 #include "nidevo/odometry/odometry.hpp"
 #include "nidevo/sim/sequence.hpp"
 
-namespace {
-std::atomic<bool> counting{false};
-std::atomic<long> allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (counting) ++allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+using nidevo::test::allocations;
+using nidevo::test::counting;
 
 namespace nidevo {
 namespace {

@@ -4,13 +4,11 @@
 // v1::Frame, as the session's reused request is. Its own binary: it replaces operator new.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
 #include <deque>
 #include <functional>
 #include <mutex>
-#include <new>
 
+#include "../counting_new.hpp"
 #include "frame_decoder.hpp"
 #include "frame_encoder.hpp"
 #include "frame_pipeline.hpp"
@@ -20,18 +18,8 @@
 #include "response_queue.hpp"
 #include "server_metrics.hpp"
 
-namespace {
-std::atomic<bool> counting{false};
-std::atomic<long> allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (counting) ++allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+using nidevo::test::allocations;
+using nidevo::test::counting;
 
 namespace nidevo::server {
 namespace {
