@@ -135,9 +135,18 @@ TEST(Auth, SighupReloadsTheTokensWithoutDroppingOpenSessions) {
     frame.set_sequence(i);
     ASSERT_TRUE(session->send(frame));
   }
+  // The call is admitted when the server starts it, not when the client opens it: only answers
+  // prove the session was let in with the old token before the reload.
+  const auto until = std::chrono::steady_clock::now() + 20s;
+  const auto answered = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    return answers.size();
+  };
+  while (answered() < 3 && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(20ms);
+  ASSERT_EQ(answered(), 3u);
   writeTokens(tokens, "after\n");
   server.signal(SIGHUP);
-  const auto until = std::chrono::steady_clock::now() + 20s;
   while (server.log().find("reloaded 1 tokens") == std::string::npos &&
          std::chrono::steady_clock::now() < until)
     std::this_thread::sleep_for(20ms);
