@@ -255,12 +255,17 @@ TEST(ClientTools, ReplayReconnectsAfterTheServerIsKilledAndKeepsTheWorldFrame) {
     EXPECT_NE(out.find("replay done: 60 frames sent, 60 answered, 60 poses written"),
               std::string::npos)
         << out;
-    // Every frame answered once, in order, and no jump where the new session took over.
+    // Every frame answered once, in order, and no jump where the new session took over: each
+    // pose stays near the uninterrupted run's pose of the same frame, rotation included.
     const Trajectory poses = readTumTrajectory(trajectory);
+    const Trajectory reference = readTumTrajectory(dir + "/whole.txt");
     ASSERT_EQ(poses.size(), 60u);
-    for (size_t i = 1; i < poses.size(); ++i) {
-      EXPECT_GT(poses[i].timestamp, poses[i - 1].timestamp) << i;
-      EXPECT_LT((poses[i].translation - poses[i - 1].translation).norm(), 0.05) << i;
+    ASSERT_EQ(reference.size(), 60u);
+    for (size_t i = 0; i < poses.size(); ++i) {
+      if (i > 0) EXPECT_GT(poses[i].timestamp, poses[i - 1].timestamp) << i;
+      EXPECT_EQ(poses[i].timestamp, reference[i].timestamp) << i;
+      EXPECT_LT((poses[i].translation - reference[i].translation).norm(), 0.05) << i;
+      EXPECT_LT(poses[i].rotation.angularDistance(reference[i].rotation), 2 * M_PI / 180) << i;
     }
   }
   const double whole = apeRmseValue(uninterrupted), interrupted = apeRmseValue(out);
@@ -268,6 +273,7 @@ TEST(ClientTools, ReplayReconnectsAfterTheServerIsKilledAndKeepsTheWorldFrame) {
   EXPECT_LE(interrupted, 1.1 * whole)
       << "ATE " << interrupted << " m against " << whole << " m uninterrupted\n"
       << out;
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ClientTools, ReplayWithoutReconnectsSaysWhatItGotWhenTheServerDies) {
@@ -298,6 +304,35 @@ TEST(ClientTools, ReplayWithoutReconnectsSaysWhatItGotWhenTheServerDies) {
   EXPECT_NE(out.find("answered, " + std::to_string(written) + " poses written to " + trajectory),
             std::string::npos)
       << out;
+}
+
+TEST(ClientTools, ReplayGivesUpAfterItsReconnectAttemptsAndKeepsWhatItGot) {
+  const std::string dir = makeTempDir();
+  const std::string trajectory = dir + "/partial.txt";
+  std::string out;
+  int exit_code = -1;
+  auto server = std::make_unique<ServerProcess>();
+  std::thread client([&] {
+    exit_code = runCommand(NIDEVO_BIN_DIR
+                               "/nidevo-client replay --frames 120 --rate 40 "
+                               "--reconnect_attempts 2 --reconnect_backoff_s 0.05 --out " +
+                               trajectory + " --target " + server->target(),
+                           &out);
+  });
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (poseLines(trajectory) < 20 && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  server->signal(SIGKILL);  // and no server comes back
+  client.join();
+  EXPECT_EQ(exit_code, 1) << out;
+  EXPECT_NE(out.find("reconnect 2 of 2"), std::string::npos) << out;
+  EXPECT_EQ(out.find("reconnect 3 of"), std::string::npos) << out;
+  const size_t written = poseLines(trajectory);
+  EXPECT_GE(written, 20u);
+  EXPECT_NE(out.find("answered, " + std::to_string(written) + " poses written to " + trajectory),
+            std::string::npos)
+      << out;
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ClientTools, ReplayEndsAtItsDeadlineWithTheStatus) {
