@@ -98,6 +98,17 @@ TEST_F(DepthAlignmentTest, RefinementRecoversAKnownMotionFromTheIdentity) {
   EXPECT_GT(a.inlierFraction(), 0.95);
 }
 
+TEST_F(DepthAlignmentTest, ASmallStepEndsTheRefinementWhereRunningOnGainsNothing) {
+  const Isometry3d truth = motion(0.035, {0.3, 1, 0.2}, {0.04, -0.02, 0.03});
+  const AlignmentResult early = alignTo(truth, Isometry3d::Identity(), 10);
+  config_.align_converged_m = 0;  // every step runs
+  const AlignmentResult full = alignTo(truth, Isometry3d::Identity(), 10);
+  EXPECT_LT(early.steps, full.steps);
+  const Isometry3d apart = full.T_ref_cur.inverse() * early.T_ref_cur;
+  EXPECT_LT(apart.translation().norm(), 2 * OdometryConfig{}.align_converged_m);
+  EXPECT_LT(angleDeg(apart), 0.01);
+}
+
 TEST_F(DepthAlignmentTest, APlantedTenDegreeRotationErrorFailsTheCheck) {
   const Isometry3d truth = motion(0.02, {0, 1, 0}, {0.02, 0, 0.01});
   for (const Eigen::Vector3d& axis :

@@ -253,6 +253,9 @@ TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
     EXPECT_NE(std::string(e.what()).find("cell_size"), std::string::npos);
   }
   bad = OdometryConfig{};
+  bad.align_converged_m = -1e-4f;
+  EXPECT_NE(bad.validate().find("align_converged_m"), std::string::npos);
+  bad = OdometryConfig{};
   bad.projection_width = 17;
   EXPECT_THROW(Odometry(cam, bad), std::invalid_argument);
   Camera bad_cam = cam;

@@ -49,6 +49,8 @@ ABSL_FLAG(double, kcc_prior_ratio, kDefaults.kcc_prior_ratio,
 ABSL_FLAG(int, align_iterations, kDefaults.align_iterations,
           "Pose check: refinement steps on the constrained directions (0: the method's pose is "
           "only checked)");
+ABSL_FLAG(double, align_converged, kDefaults.align_converged_m,
+          "Pose check: a refinement step moving the surface less than this (m) ends it");
 ABSL_FLAG(double, align_min_eigenvalue, kDefaults.align_min_eigenvalue,
           "Directions the geometry constrains less than this keep the hypothesis' value");
 ABSL_FLAG(double, align_photometric_weight, kDefaults.align_photometric_weight,
@@ -97,6 +99,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.kcc_prior_ratio = float(absl::GetFlag(FLAGS_kcc_prior_ratio));
   c.predicted_association = absl::GetFlag(FLAGS_predicted_association);
   c.align_iterations = absl::GetFlag(FLAGS_align_iterations);
+  c.align_converged_m = float(absl::GetFlag(FLAGS_align_converged));
   c.align_min_eigenvalue = float(absl::GetFlag(FLAGS_align_min_eigenvalue));
   c.align_photometric_weight = float(absl::GetFlag(FLAGS_align_photometric_weight));
   c.align_polish_iterations = absl::GetFlag(FLAGS_align_polish_iterations);

@@ -86,7 +86,9 @@ void DepthAligner::addRow(const Vector3d& p, const Vector3d& d, double r, double
   Eigen::Matrix<double, 6, 1> J;
   J.head<3>() = p.cross(d) / depth_scale;
   J.tail<3>() = d;
-  system->H.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
+  // The whole fixed-size outer product: Eigen unrolls and vectorises it, where a
+  // selfadjointView rankUpdate goes through a generic product kernel per row.
+  system->H.noalias() += (w * J) * J.transpose();
   system->b += w * r * J;
 }
 
@@ -210,11 +212,15 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const NormalMap& cur,
     // What depth alone fixes at this pose, whatever the grey values add.
     res.depth_constrained =
         photometric ? constrainedDirections(H_depth, prm.min_eigenvalue) : res.constrained;
+    // Here the rotation part is still in metres at the mean depth.
+    const bool converged =
+        xi.head<3>().norm() < prm.converged_m && xi.tail<3>().norm() < prm.converged_m;
     xi.head<3>() /= depth_scale;
     if (!xi.allFinite() || xi.head<3>().norm() > 0.3 || xi.tail<3>().norm() > 0.3) return;
     T_cur_ref = increment(xi) * T_cur_ref;
+    ++res.steps;
     T_cur_ref.linear() = Eigen::Quaterniond(T_cur_ref.linear()).normalized().toRotationMatrix();
-    if (xi.head<3>().norm() < 1e-5 && xi.tail<3>().norm() < 1e-5) return;
+    if (converged) return;
   }
 }
 

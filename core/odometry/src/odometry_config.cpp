@@ -67,6 +67,7 @@ std::string OdometryConfig::validate() const {
   if (verify_sample_step < 1 || verify_sample_step > 32)
     return "verify_sample_step must be in 1..32";
   if (align_iterations < 0 || align_iterations > 50) return "align_iterations must be in 0..50";
+  if (!in(align_converged_m, 0, 0.01)) return "align_converged_m must be in [0, 0.01]";
   if (!in(align_max_distance_m, 1e-4, 10)) return "align_max_distance_m must be in [1e-4, 10]";
   if (!in(align_inlier_m, 1e-5, 10)) return "align_inlier_m must be in [1e-5, 10]";
   if (!in(align_inlier_per_m, 0, 1)) return "align_inlier_per_m must be in [0, 1]";
@@ -107,6 +108,7 @@ PlaneTrackingParams planeTrackingParams(const OdometryConfig& c, int normal_map_
 AlignmentParams alignmentParams(const OdometryConfig& c) {
   AlignmentParams p;
   p.iterations = c.align_iterations;
+  p.converged_m = c.align_converged_m;
   p.max_distance_m = c.align_max_distance_m;
   p.inlier_m = c.align_inlier_m;
   p.inlier_per_m = c.align_inlier_per_m;

@@ -27,7 +27,10 @@ void sampleSurface(const NormalMap& map, const std::vector<float>& intensity, in
                    SurfaceSample* out);
 
 struct AlignmentParams {
-  int iterations = 10;           // Gauss-Newton steps; 0: evaluate the hypothesis only
+  int iterations = 10;  // Gauss-Newton steps; 0: evaluate the hypothesis only
+  // Converged when a step moves the surface less than this (rotation at the mean depth, and
+  // translation), metres.
+  float converged_m = 1e-4f;
   float max_distance_m = 0.08f;  // association gate on the point-to-plane residual
   float inlier_m = 0.02f;        // a residual below this (plus inlier_per_m * depth) is an inlier
   float inlier_per_m = 0.01f;    // depth noise grows with range
@@ -58,6 +61,7 @@ struct AlignmentResult {
   int constrained = 0;           // directions (of 6) the geometry fixed in the last step
   int depth_constrained = 0;     // ... that depth alone fixed (the rest needed grey values)
   int confirmed = 0;             // weak directions the data left at the hypothesis' value
+  int steps = 0;                 // Gauss-Newton steps taken, depth and grey-value passes
   // Whether a direction left free is mostly a rotation, mostly a translation.
   bool free_rotation = false;
   bool free_translation = false;

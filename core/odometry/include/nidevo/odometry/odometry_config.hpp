@@ -76,8 +76,11 @@ struct OdometryConfig {
 
   // Verification (depth_alignment.hpp): the full pose, checked against a reference frame (the
   // last frame that renewed it) and refined along the directions the geometry fixes.
-  int verify_sample_step = 4;          // every n-th smooth normal-map pixel of the reference
-  int align_iterations = 10;           // 0: the method's pose is checked, never changed
+  int verify_sample_step = 4;  // every n-th smooth normal-map pixel of the reference
+  int align_iterations = 10;   // 0: the method's pose is checked, never changed
+  // A step under this (rotation as metres at the mean depth, and translation) ends the
+  // refinement: far under a depth sensor's noise (README "Speed" measures it).
+  float align_converged_m = 1e-4f;
   float align_max_distance_m = 0.08f;  // association gate
   float align_inlier_m = 0.02f;  // inlier residual, plus align_inlier_per_m per metre of depth
   float align_inlier_per_m = 0.01f;
