@@ -5,13 +5,6 @@
 
 namespace nidevo {
 
-Eigen::Vector2d Distortion::distort(const Eigen::Vector2d& p) const {
-  const double x = p.x(), y = p.y(), r2 = x * x + y * y;
-  const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
-  return {x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
-          y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y};
-}
-
 // Newton's method on distort(p) = d from p = d, with the Jacobian by central differences; it
 // stays where a fixed-point iteration diverges (strong distortion near the image corners).
 Eigen::Vector2d Distortion::undistort(const Eigen::Vector2d& d) const {

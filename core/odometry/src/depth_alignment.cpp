@@ -81,8 +81,8 @@ double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std
 
 // One residual r with the model's derivative direction d (a normal, or a grey gradient): the
 // Jacobian row is [p x d / depth_scale, d].
-void DepthAligner::addRow(const Vector3d& p, const Vector3d& d, double r, double w,
-                          double depth_scale, NormalEquations* system) {
+inline void DepthAligner::addRow(const Vector3d& p, const Vector3d& d, double r, double w,
+                                 double depth_scale, NormalEquations* system) {
   Eigen::Matrix<double, 6, 1> J;
   J.head<3>() = p.cross(d) / depth_scale;
   J.tail<3>() = d;

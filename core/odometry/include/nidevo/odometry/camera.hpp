@@ -11,8 +11,14 @@ struct Distortion {
   double k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;
 
   bool none() const { return k1 == 0 && k2 == 0 && p1 == 0 && p2 == 0 && k3 == 0; }
-  // Ideal (pinhole) normalised coordinates to distorted ones.
-  Eigen::Vector2d distort(const Eigen::Vector2d& ideal) const;
+  // Ideal (pinhole) normalised coordinates to distorted ones. Inline: the pose check calls it
+  // for every point of every refinement step.
+  Eigen::Vector2d distort(const Eigen::Vector2d& ideal) const {
+    const double x = ideal.x(), y = ideal.y(), r2 = x * x + y * y;
+    const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+    return {x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
+            y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y};
+  }
   // The inverse, by Newton's method (to 1e-12 within the image of real lenses).
   Eigen::Vector2d undistort(const Eigen::Vector2d& distorted) const;
 };
