@@ -1,5 +1,5 @@
-// Per-stage and whole-frame cost of the odometry at 640x480 on one thread. Reports medians over
-// repetitions; asserts nothing about time.
+// Per-stage and whole-frame cost of the odometry on one thread (640x480, and the whole frame at
+// 320x240 and 1280x720 too). Reports medians over repetitions; asserts nothing about time.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -45,6 +45,46 @@ void BM_WholeFrame(benchmark::State& state) {
   state.SetItemsProcessed(int64_t(state.iterations()));
 }
 BENCHMARK(BM_WholeFrame)->Unit(benchmark::kMillisecond);
+
+// The ICL camera scaled to width x height (the field of view kept across the width).
+Camera cameraOfSize(int width, int height) {
+  Camera c = camera();
+  const double s = double(width) / c.width;
+  c.fx *= s;
+  c.fy *= s;
+  c.cx = 0.5 * (width - 1);
+  c.cy = 0.5 * (height - 1);
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
+// The same office at another input size: does the cost grow with the pixel count?
+void BM_WholeFrameAtSize(benchmark::State& state) {
+  synth::SequenceConfig c;
+  c.frames = 20;
+  c.texture = synth::TextureRichness::kLow;
+  c.noise = synth::SensorNoise::kIclLike;
+  c.camera = cameraOfSize(int(state.range(0)), int(state.range(1)));
+  const synth::SyntheticSequence seq(c);
+  std::vector<RgbdFrame> sized;
+  for (int i = 0; i < seq.size(); ++i) sized.push_back(seq.renderFrame(i));
+  Odometry odometry(c.camera, OdometryConfig{});
+  const size_t n = sized.size(), period = 2 * (n - 1);
+  size_t k = 0;
+  auto next = [&]() -> const RgbdFrame& {
+    const size_t i = k++ % period;
+    return sized[i < n ? i : period - i];
+  };
+  for (int i = 0; i < 10; ++i) odometry.track(next());
+  for (auto _ : state) benchmark::DoNotOptimize(odometry.track(next()));
+  state.counters["pixels"] = double(state.range(0) * state.range(1));
+}
+BENCHMARK(BM_WholeFrameAtSize)
+    ->Args({320, 240})
+    ->Args({640, 480})
+    ->Args({1280, 720})
+    ->Unit(benchmark::kMillisecond);
 
 // The stages are timed inside one tracking loop (each needs the previous ones' state), with
 // manual timing of the stage under test.

@@ -20,6 +20,19 @@ echo "== docker-compose config"
 docker-compose -f "$deploy/docker-compose.yml" config -q || fail "docker-compose.yml"
 docker-compose -f "$deploy/docker-compose.yml" --profile load config --services | grep -qx loadtest \
   || fail "the load tester profile is missing"
+# The server and the load tester read their bearer tokens from the compose secret.
+docker-compose -f "$deploy/docker-compose.yml" --profile load config > "$work/compose.yaml"
+/usr/bin/python3 - "$work/compose.yaml" <<'PY' || fail "compose token secret"
+import sys, yaml
+config = yaml.safe_load(open(sys.argv[1]))
+assert "nidevo_tokens" in config["secrets"], "no secret nidevo_tokens"
+for name in ("nidevo", "loadtest"):
+    service = config["services"][name]
+    sources = [s["source"] if isinstance(s, dict) else s for s in service.get("secrets", [])]
+    assert "nidevo_tokens" in sources, f"{name} does not get the secret nidevo_tokens"
+    assert service["environment"]["NIDEVO_TOKEN_FILE"] == "/run/secrets/nidevo_tokens", name
+print("ok: server and load tester read /run/secrets/nidevo_tokens")
+PY
 
 echo "== promtool check config"
 promtool check config "$deploy/prometheus/prometheus.yml" || fail "prometheus.yml"
@@ -49,6 +62,13 @@ pre_stop = int(re.search(r"command:\s*\n\s*- sleep\s*\n\s*- \"?(\d+)", text).gro
 assert grace > drain + pre_stop, f"grace {grace} s must exceed drain {drain} s + preStop {pre_stop} s"
 assert "service: nidevo.v1.OdometryService" in text, "readiness probe must check the service"
 assert "clusterIP: None" in text, "headless Service missing"
+# Bearer tokens: the file the server reads is the mounted Secret's key, read-only.
+token_file = re.search(r"NIDEVO_TOKEN_FILE: \"?([^\"\n]+)", text).group(1)
+mount = re.search(r"- mountPath: (\S+)\n\s+name: tokens\n\s+readOnly: true", text)
+assert mount, "the tokens volume must be mounted read-only"
+assert token_file == mount.group(1) + "/tokens", f"{token_file} is not the Secret's key"
+assert re.search(r"name: tokens\n\s+secret:\n\s+secretName: nidevo-tokens", text), \
+    "the tokens volume must come from the Secret nidevo-tokens"
 print(f"ok: grace {grace} s > preStop {pre_stop} s + drain {drain} s")
 PY
 
