@@ -262,7 +262,9 @@ TEST(ClientTools, ReplayReconnectsAfterTheServerIsKilledAndKeepsTheWorldFrame) {
     ASSERT_EQ(poses.size(), 60u);
     ASSERT_EQ(reference.size(), 60u);
     for (size_t i = 0; i < poses.size(); ++i) {
-      if (i > 0) EXPECT_GT(poses[i].timestamp, poses[i - 1].timestamp) << i;
+      if (i > 0) {
+        EXPECT_GT(poses[i].timestamp, poses[i - 1].timestamp) << i;
+      }
       EXPECT_EQ(poses[i].timestamp, reference[i].timestamp) << i;
       EXPECT_LT((poses[i].translation - reference[i].translation).norm(), 0.05) << i;
       EXPECT_LT(poses[i].rotation.angularDistance(reference[i].rotation), 2 * M_PI / 180) << i;
