@@ -16,4 +16,24 @@ bool releaseFreedMemory() {
 #endif
 }
 
+std::optional<double> heapAllocatedBytes() {
+#if defined(__GLIBC__)
+  const struct mallinfo2 info = mallinfo2();
+  return double(info.uordblks) + double(info.hblkhd);
+#else
+  return std::nullopt;
+#endif
+}
+
+std::vector<prometheus::MetricFamily> HeapCollector::Collect() const {
+  const std::optional<double> bytes = heapAllocatedBytes();
+  if (!bytes) return {};
+  prometheus::ClientMetric metric;
+  metric.gauge.value = *bytes;
+  return {{"nidevo_heap_allocated_bytes",
+           "Heap bytes allocated and not freed (glibc mallinfo2: uordblks + hblkhd).",
+           prometheus::MetricType::Gauge,
+           {metric}}};
+}
+
 }  // namespace nidevo::server

@@ -1,5 +1,11 @@
 #pragma once
-// Returns the heap memory the allocator keeps after sessions end to the operating system.
+// The heap memory the allocator keeps after sessions end: given back to the operating system,
+// and what is still allocated, exported for leak checks.
+#include <optional>
+#include <vector>
+
+#include "prometheus/collectable.h"
+#include "prometheus/metric_family.h"
 
 namespace nidevo::server {
 
@@ -8,5 +14,16 @@ namespace nidevo::server {
 // pages back. It walks every arena under its lock, so the service calls it only when no session
 // is open (nobody waits on an allocation then). True when the allocator supports it (glibc).
 bool releaseFreedMemory();
+
+// Bytes the allocator has handed out and not got back, over every arena and the mmapped chunks
+// (glibc mallinfo2: uordblks + hblkhd). Unlike the resident size it does not move with what the
+// arenas keep or give back, so a leak shows in it at once. Empty without glibc.
+std::optional<double> heapAllocatedBytes();
+
+// nidevo_heap_allocated_bytes at each scrape (nothing without glibc).
+class HeapCollector : public prometheus::Collectable {
+ public:
+  std::vector<prometheus::MetricFamily> Collect() const override;
+};
 
 }  // namespace nidevo::server

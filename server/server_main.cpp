@@ -15,6 +15,7 @@
 
 #include "absl/flags/flag.h"
 #include "absl/synchronization/mutex.h"
+#include "memory_release.hpp"
 #include "nidevo/cli/cli.hpp"
 #include "nidevo/cli/odometry_flags.hpp"
 #include "nidevo/odometry/camera.hpp"
@@ -177,6 +178,8 @@ int serveMetrics(const ServerConfig& config, nidevo::server::ServerMetrics& metr
   // The exposer keeps a weak pointer; the collector lives as long as the process.
   static const auto process = std::make_shared<nidevo::server::ProcessCollector>();
   (*exposer)->RegisterCollectable(process);
+  static const auto heap = std::make_shared<nidevo::server::HeapCollector>();
+  (*exposer)->RegisterCollectable(heap);
   return (*exposer)->GetListeningPorts().at(0);
 }
 

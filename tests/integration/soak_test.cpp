@@ -70,7 +70,7 @@ TEST(Soak, SessionsEndingAtRandomAreAllFreedAndMemoryStaysFlat) {
   const double seconds = soakSeconds();
   const int rounds = std::max(6, int(seconds / 2));
   std::atomic<int> sessions{0};
-  std::vector<size_t> rss;  // after each round
+  std::vector<size_t> rss, heap;  // after each round
   for (int round = 0; round < rounds; ++round) {
     const double releases = metric(server, "nidevo_memory_releases_total");
     const auto until = Clock::now() + 2s;
@@ -89,27 +89,36 @@ TEST(Soak, SessionsEndingAtRandomAreAllFreedAndMemoryStaysFlat) {
       std::this_thread::sleep_for(20ms);
     ASSERT_GT(metric(server, "nidevo_memory_releases_total"), releases) << "round " << round;
     rss.push_back(server.residentBytes());
+    heap.push_back(size_t(metric(server, "nidevo_heap_allocated_bytes")));
   }
   EXPECT_GT(sessions.load(), 20 * rounds) << "too few sessions for a soak";
 
   // Flat: the median of the last third against the median of the second (the first third is
-  // warm-up: gRPC's and the allocator's pools fill) within 2 %. A leak of one session's buffers
-  // (about 20 MB) every few rounds fails it many times over.
-  const size_t third = rss.size() / 3;
-  auto median = [](std::vector<size_t> v) {
-    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-    return v[v.size() / 2];
+  // warm-up: gRPC's and the allocator's pools fill). The heap the allocator has handed out is
+  // the leak check, within 2 %: a leak of one session's buffers (about 20 MB) every few rounds
+  // fails it many times over, and so do 5 kB per session. The resident size swings by up to 10 %
+  // from one quiet point to the next with what the arenas keep (4.2 % between the medians once
+  // in a 60 s run); it is bounded at 10 %, and its 2 % is shown by longer runs (soak.sh).
+  const auto growth = [](const std::vector<size_t>& samples, const char* what) {
+    const size_t third = samples.size() / 3;
+    auto median = [](std::vector<size_t> v) {
+      std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+      return v[v.size() / 2];
+    };
+    const size_t second =
+        median({samples.begin() + long(third), samples.begin() + long(2 * third)});
+    const size_t last = median({samples.begin() + long(2 * third), samples.end()});
+    std::printf("soak: %s MB after each round:", what);
+    for (size_t bytes : samples) std::printf(" %.1f", double(bytes) / 1e6);
+    const double g = double(last) / double(second) - 1;
+    std::printf(
+        "\nsoak: %s median %.1f MB (second third) -> %.1f MB (last third), growth %.2f %%\n", what,
+        double(second) / 1e6, double(last) / 1e6, 100 * g);
+    return g;
   };
-  const size_t second = median({rss.begin() + long(third), rss.begin() + long(2 * third)});
-  const size_t last = median({rss.begin() + long(2 * third), rss.end()});
-  std::printf("soak: resident MB after each round:");
-  for (size_t bytes : rss) std::printf(" %.1f", double(bytes) / 1e6);
-  const double growth = double(last) / double(second) - 1;
-  std::printf(
-      "\nsoak: %d sessions in %d rounds of 2 s; resident median %.1f MB (second third) -> "
-      "%.1f MB (last third), growth %.2f %%\n",
-      sessions.load(), rounds, double(second) / 1e6, double(last) / 1e6, 100 * growth);
-  EXPECT_LT(growth, 0.02);
+  std::printf("soak: %d sessions in %d rounds of 2 s\n", sessions.load(), rounds);
+  EXPECT_LT(growth(heap, "heap allocated"), 0.02);
+  EXPECT_LT(growth(rss, "resident"), 0.10);
 }
 
 }  // namespace

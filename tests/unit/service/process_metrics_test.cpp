@@ -10,6 +10,9 @@
 #include <ctime>
 #include <set>
 #include <sstream>
+#include <vector>
+
+#include "memory_release.hpp"
 
 namespace nidevo::server {
 namespace {
@@ -84,6 +87,22 @@ TEST(ProcessMetrics, TheCollectorExportsTheSixStandardFamilies) {
             (std::set<std::string>{"process_cpu_seconds_total", "process_resident_memory_bytes",
                                    "process_virtual_memory_bytes", "process_start_time_seconds",
                                    "process_open_fds", "process_max_fds"}));
+}
+
+// The heap gauge follows what this process allocates and frees, to within a few pages.
+TEST(HeapMetrics, AllocatedBytesFollowAnAllocationAndItsRelease) {
+  const std::optional<double> before = heapAllocatedBytes();
+  ASSERT_TRUE(before.has_value()) << "glibc: mallinfo2 is there";
+  constexpr size_t kBytes = 64u << 20;
+  auto block = std::make_unique<std::vector<char>>(kBytes, 1);
+  const double held = *heapAllocatedBytes();
+  EXPECT_NEAR(held - *before, double(kBytes), 1 << 20);
+  block.reset();
+  EXPECT_NEAR(*heapAllocatedBytes(), *before, 1 << 20);
+  const auto families = HeapCollector().Collect();
+  ASSERT_EQ(families.size(), 1u);
+  EXPECT_EQ(families[0].name, "nidevo_heap_allocated_bytes");
+  EXPECT_NEAR(families[0].metric.at(0).gauge.value, *before, 1 << 20);
 }
 
 }  // namespace
