@@ -96,9 +96,9 @@ TEST(Soak, SessionsEndingAtRandomAreAllFreedAndMemoryStaysFlat) {
   // Flat: the median of the last third against the median of the second (the first third is
   // warm-up: gRPC's and the allocator's pools fill). The heap the allocator has handed out is
   // the leak check, within 2 %: a leak of one session's buffers (about 20 MB) every few rounds
-  // fails it many times over, and so do 5 kB per session. The resident size swings by up to 10 %
-  // from one quiet point to the next with what the arenas keep (4.2 % between the medians once
-  // in a 60 s run); it is bounded at 10 %, and its 2 % is shown by longer runs (soak.sh).
+  // fails it many times over, and so do 100 bytes kept per session. The resident size swings by up
+  // to 10 % from one quiet point to the next with what the arenas keep (4.2 % between the medians
+  // once in a 60 s run); it is bounded at 10 %, and its 2 % is shown by longer runs (soak.sh).
   const auto growth = [](const std::vector<size_t>& samples, const char* what) {
     const size_t third = samples.size() / 3;
     auto median = [](std::vector<size_t> v) {
