@@ -18,6 +18,7 @@ bool releaseFreedMemory() {
 
 std::optional<double> heapAllocatedBytes() {
 #if defined(__GLIBC__)
+  if (!kGlibcHeap) return std::nullopt;
   const struct mallinfo2 info = mallinfo2();
   return double(info.uordblks) + double(info.hblkhd);
 #else

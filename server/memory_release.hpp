@@ -15,9 +15,20 @@ namespace nidevo::server {
 // is open (nobody waits on an allocation then). True when the allocator supports it (glibc).
 bool releaseFreedMemory();
 
+// Whether malloc is glibc's: a sanitizer's allocator replaces it, and glibc then counts nothing.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+inline constexpr bool kGlibcHeap = false;
+#elif defined(__has_feature)
+inline constexpr bool kGlibcHeap =
+    !(__has_feature(address_sanitizer) || __has_feature(thread_sanitizer) ||
+      __has_feature(memory_sanitizer));
+#else
+inline constexpr bool kGlibcHeap = true;
+#endif
+
 // Bytes the allocator has handed out and not got back, over every arena and the mmapped chunks
 // (glibc mallinfo2: uordblks + hblkhd). Unlike the resident size it does not move with what the
-// arenas keep or give back, so a leak shows in it at once. Empty without glibc.
+// arenas keep or give back, so a leak shows in it at once. Empty without glibc's malloc.
 std::optional<double> heapAllocatedBytes();
 
 // nidevo_heap_allocated_bytes at each scrape (nothing without glibc).
