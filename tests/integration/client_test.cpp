@@ -278,29 +278,28 @@ TEST(ClientTools, ReplayReconnectsAfterTheServerIsKilledAndKeepsTheWorldFrame) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(ClientTools, ReplayWithoutReconnectsSaysWhatItGotWhenTheServerDies) {
-  const std::string clip = realClipFlags();
-  if (clip.empty()) GTEST_SKIP() << "no ../shared/data/tum_fr1_rpy_first250";
-  const std::string dir = makeTempDir();
-  const std::string trajectory = dir + "/partial.txt";
-  std::string out;
+// Replays 120 synthetic frames at 40 Hz with `reconnect_flags` into `trajectory`, and kills the
+// server for good once 20 poses are in the file. The replay's exit code; its output in *out.
+int replayUntilTheServerDies(const std::string& reconnect_flags, const std::string& trajectory,
+                             std::string* out) {
   int exit_code = -1;
   auto server = std::make_unique<ServerProcess>();
   std::thread client([&] {
-    exit_code = runCommand(NIDEVO_BIN_DIR
-                               "/nidevo-client replay --frames 120 --rate 40 "
-                               "--reconnect_attempts 0 --out " +
-                               trajectory + " --target " + server->target(),
-                           &out);
+    exit_code =
+        runCommand(NIDEVO_BIN_DIR "/nidevo-client replay --frames 120 --rate 40 " +
+                       reconnect_flags + " --out " + trajectory + " --target " + server->target(),
+                   out);
   });
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   while (poseLines(trajectory) < 20 && std::chrono::steady_clock::now() < until)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   server->signal(SIGKILL);
   client.join();
-  EXPECT_EQ(exit_code, 1) << out;
-  EXPECT_NE(out.find("stream ended with UNAVAILABLE"), std::string::npos) << out;
-  // The answers received are kept: the file holds every pose the summary counts.
+  return exit_code;
+}
+
+// The answers received are kept: the file holds every pose the replay's summary counts.
+void expectThePosesReceivedWritten(const std::string& out, const std::string& trajectory) {
   const size_t written = poseLines(trajectory);
   EXPECT_GE(written, 20u);
   EXPECT_NE(out.find("answered, " + std::to_string(written) + " poses written to " + trajectory),
@@ -308,32 +307,25 @@ TEST(ClientTools, ReplayWithoutReconnectsSaysWhatItGotWhenTheServerDies) {
       << out;
 }
 
-TEST(ClientTools, ReplayGivesUpAfterItsReconnectAttemptsAndKeepsWhatItGot) {
-  const std::string dir = makeTempDir();
-  const std::string trajectory = dir + "/partial.txt";
+TEST(ClientTools, ReplayWithoutReconnectsSaysWhatItGotWhenTheServerDies) {
+  const std::string dir = makeTempDir(), trajectory = dir + "/partial.txt";
   std::string out;
-  int exit_code = -1;
-  auto server = std::make_unique<ServerProcess>();
-  std::thread client([&] {
-    exit_code = runCommand(NIDEVO_BIN_DIR
-                               "/nidevo-client replay --frames 120 --rate 40 "
-                               "--reconnect_attempts 2 --reconnect_backoff_s 0.05 --out " +
-                               trajectory + " --target " + server->target(),
-                           &out);
-  });
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (poseLines(trajectory) < 20 && std::chrono::steady_clock::now() < until)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  server->signal(SIGKILL);  // and no server comes back
-  client.join();
-  EXPECT_EQ(exit_code, 1) << out;
+  EXPECT_EQ(replayUntilTheServerDies("--reconnect_attempts 0", trajectory, &out), 1) << out;
+  EXPECT_NE(out.find("stream ended with UNAVAILABLE"), std::string::npos) << out;
+  expectThePosesReceivedWritten(out, trajectory);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ClientTools, ReplayGivesUpAfterItsReconnectAttemptsAndKeepsWhatItGot) {
+  const std::string dir = makeTempDir(), trajectory = dir + "/partial.txt";
+  std::string out;
+  EXPECT_EQ(replayUntilTheServerDies("--reconnect_attempts 2 --reconnect_backoff_s 0.05",
+                                     trajectory, &out),
+            1)
+      << out;
   EXPECT_NE(out.find("reconnect 2 of 2"), std::string::npos) << out;
   EXPECT_EQ(out.find("reconnect 3 of"), std::string::npos) << out;
-  const size_t written = poseLines(trajectory);
-  EXPECT_GE(written, 20u);
-  EXPECT_NE(out.find("answered, " + std::to_string(written) + " poses written to " + trajectory),
-            std::string::npos)
-      << out;
+  expectThePosesReceivedWritten(out, trajectory);
   std::filesystem::remove_all(dir);
 }
 
