@@ -11,19 +11,17 @@
 namespace nidevo {
 namespace {
 
-// Frames of the office sequence, rendered once per process.
-const std::vector<RgbdFrame>& frames() {
-  static const std::vector<RgbdFrame> cache = [] {
-    synth::SequenceConfig c;
-    c.frames = 40;
-    c.texture = synth::TextureRichness::kLow;
-    c.noise = synth::SensorNoise::kIclLike;
-    const synth::SyntheticSequence seq(c);
-    std::vector<RgbdFrame> out;
-    for (int i = 0; i < seq.size(); ++i) out.push_back(seq.renderFrame(i));
-    return out;
-  }();
-  return cache;
+// The low-texture, noisy office: `count` frames seen by `camera`.
+std::vector<RgbdFrame> renderOffice(int count, const Camera& camera) {
+  synth::SequenceConfig c;
+  c.frames = count;
+  c.texture = synth::TextureRichness::kLow;
+  c.noise = synth::SensorNoise::kIclLike;
+  c.camera = camera;
+  const synth::SyntheticSequence seq(c);
+  std::vector<RgbdFrame> out;
+  for (int i = 0; i < seq.size(); ++i) out.push_back(seq.renderFrame(i));
+  return out;
 }
 
 const Camera& camera() {
@@ -31,10 +29,17 @@ const Camera& camera() {
   return c;
 }
 
-// Back and forth through the sequence, so that the motion stays smooth for any iteration count.
+// Frame k of going back and forth through `sequence`, so that the motion stays smooth for any
+// iteration count.
+const RgbdFrame& backAndForth(const std::vector<RgbdFrame>& sequence, size_t k) {
+  const size_t n = sequence.size(), period = 2 * (n - 1), i = k % period;
+  return sequence[i < n ? i : period - i];
+}
+
+// The office at 640x480, rendered once per process.
 const RgbdFrame& frameAt(size_t k) {
-  const size_t n = frames().size(), period = 2 * (n - 1), i = k % period;
-  return frames()[i < n ? i : period - i];
+  static const std::vector<RgbdFrame> office = renderOffice(40, camera());
+  return backAndForth(office, k);
 }
 
 void BM_WholeFrame(benchmark::State& state) {
@@ -61,23 +66,12 @@ Camera cameraOfSize(int width, int height) {
 
 // The same office at another input size: does the cost grow with the pixel count?
 void BM_WholeFrameAtSize(benchmark::State& state) {
-  synth::SequenceConfig c;
-  c.frames = 20;
-  c.texture = synth::TextureRichness::kLow;
-  c.noise = synth::SensorNoise::kIclLike;
-  c.camera = cameraOfSize(int(state.range(0)), int(state.range(1)));
-  const synth::SyntheticSequence seq(c);
-  std::vector<RgbdFrame> sized;
-  for (int i = 0; i < seq.size(); ++i) sized.push_back(seq.renderFrame(i));
-  Odometry odometry(c.camera, OdometryConfig{});
-  const size_t n = sized.size(), period = 2 * (n - 1);
+  const Camera sized_camera = cameraOfSize(int(state.range(0)), int(state.range(1)));
+  const std::vector<RgbdFrame> sized = renderOffice(20, sized_camera);
+  Odometry odometry(sized_camera, OdometryConfig{});
   size_t k = 0;
-  auto next = [&]() -> const RgbdFrame& {
-    const size_t i = k++ % period;
-    return sized[i < n ? i : period - i];
-  };
-  for (int i = 0; i < 10; ++i) odometry.track(next());
-  for (auto _ : state) benchmark::DoNotOptimize(odometry.track(next()));
+  for (; k < 10; ++k) odometry.track(backAndForth(sized, k));
+  for (auto _ : state) benchmark::DoNotOptimize(odometry.track(backAndForth(sized, k++)));
   state.counters["pixels"] = double(state.range(0) * state.range(1));
 }
 BENCHMARK(BM_WholeFrameAtSize)
