@@ -104,8 +104,9 @@ int main(int argc, char** argv) {
     const auto seq = nidevo::cli::loadSequence(src);
     const double load_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
-    std::printf("sequence: %s, %zu frames %dx%d (loaded in %.1f s)\n", seq.name.c_str(),
-                seq.frames.size(), seq.camera.width, seq.camera.height, load_s);
+    std::printf("sequence: %s, %zu frames %dx%d, camera %s (loaded in %.1f s)\n", seq.name.c_str(),
+                seq.frames.size(), seq.camera.width, seq.camera.height, seq.camera_source.c_str(),
+                load_s);
 
     nidevo::Odometry odometry(seq.camera, config);
     auto source = [&](size_t i) -> const nidevo::RgbdFrame& { return seq.frames[i]; };

@@ -1,8 +1,12 @@
 #include "nidevo/io/camera_io.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 
@@ -34,6 +38,28 @@ std::optional<Camera> cameraPreset(const std::string& name) {
 }
 
 std::string cameraPresetNames() { return "icl, icl_fy_positive, tum_fr1, tum_fr2, tum_fr3"; }
+
+std::optional<std::string> cameraPresetForFolderName(const std::string& folder) {
+  std::string name = std::filesystem::path(folder).lexically_normal().filename().string();
+  if (name.empty())
+    name = std::filesystem::path(folder).lexically_normal().parent_path().filename().string();
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  // Word boundaries keep "fr1" from matching inside "fr10" or "xfr1".
+  static const std::pair<std::regex, const char*> kNames[] = {
+      {std::regex("freiburg1|(^|[^a-z0-9])fr1($|[^0-9])"), "tum_fr1"},
+      {std::regex("freiburg2|(^|[^a-z0-9])fr2($|[^0-9])"), "tum_fr2"},
+      {std::regex("freiburg3|(^|[^a-z0-9])fr3($|[^0-9])"), "tum_fr3"},
+      {std::regex("(^|[^a-z])icl($|[^a-z])|living_?room|office_?room"), "icl"},
+  };
+  std::optional<std::string> found;
+  for (const auto& [pattern, preset] : kNames) {
+    if (!std::regex_search(name, pattern)) continue;
+    if (found) return std::nullopt;
+    found = preset;
+  }
+  return found;
+}
 
 Camera readCameraFile(const std::string& path) {
   std::ifstream in(path);

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <filesystem>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "nidevo/io/camera_io.hpp"
 #include "nidevo/io/dataset.hpp"
@@ -51,6 +53,25 @@ Camera presetNamed(const std::string& name) {
   return *preset;
 }
 
+// A dataset's camera: the folder's camera.txt, else the preset asked for, else the preset its
+// name implies. A wrong guess here gives wrong poses that look right (ICL's fy < 0 mirrors the
+// scene), so with nothing to go on this refuses rather than guesses.
+std::pair<Camera, std::string> datasetCamera(const std::string& folder, const std::string& asked) {
+  const std::filesystem::path file = std::filesystem::path(folder) / "camera.txt";
+  if (std::filesystem::exists(file)) return {readCameraFile(file.string()), file.string()};
+  if (asked != kAutoCamera) return {presetNamed(asked), "preset " + asked + " (--camera)"};
+  const auto implied = cameraPresetForFolderName(folder);
+  if (!implied) {
+    throw std::invalid_argument(
+        folder +
+        ": no camera.txt, and the folder's name names no known camera "
+        "(freiburg1/fr1, freiburg2/fr2, freiburg3/fr3, icl/living_room/office_room): "
+        "pass --camera (" +
+        cameraPresetNames() + ") or write " + file.string());
+  }
+  return {presetNamed(*implied), "preset " + *implied + " (from the folder's name)"};
+}
+
 }  // namespace
 
 synth::SequenceConfig syntheticSequenceConfig(const SequenceSource& src) {
@@ -61,19 +82,20 @@ synth::SequenceConfig syntheticSequenceConfig(const SequenceSource& src) {
   config.frames = int(src.max_frames ? std::min<size_t>(src.max_frames, size_t(src.frames))
                                      : size_t(src.frames));
   config.seed = src.seed;
-  config.camera = presetNamed(src.camera);
+  config.camera = presetNamed(src.camera == kAutoCamera ? "icl" : src.camera);
   return config;
 }
 
 LoadedSequence loadSequence(const SequenceSource& src) {
   LoadedSequence out;
   if (!src.dataset.empty()) {
-    const Camera preset = presetNamed(src.camera);
-    TumDataset ds(src.dataset, preset);
+    auto [camera, camera_source] = datasetCamera(src.dataset, src.camera);
+    TumDataset ds(src.dataset, camera);
     size_t n = ds.size();
     if (src.max_frames) n = std::min(n, src.max_frames);
     out.name = src.dataset;
     out.camera = ds.camera();
+    out.camera_source = camera_source;
     out.frames.resize(n);
     parallelFor(n, [&](size_t i) { out.frames[i] = ds.loadFrame(i); });
     for (size_t i = 0; i < n; ++i) {
@@ -89,6 +111,7 @@ LoadedSequence loadSequence(const SequenceSource& src) {
   const synth::SyntheticSequence seq(config);
   out.name = src.scene + " (" + src.texture + " texture, " + src.noise + " noise)";
   out.camera = config.camera;
+  out.camera_source = "preset " + std::string(src.camera == kAutoCamera ? "icl" : src.camera);
   out.frames.resize(size_t(config.frames));
   parallelFor(out.frames.size(), [&](size_t i) { out.frames[i] = seq.renderFrame(int(i)); });
   out.ground_truth = seq.groundTruthTrajectory();

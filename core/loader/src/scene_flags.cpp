@@ -10,9 +10,11 @@ ABSL_FLAG(std::string, noise, "none",
           "Synthetic sensor noise: none, icl (ICL-NUIM-like depth and RGB noise)");
 ABSL_FLAG(int, frames, 300, "Synthetic sequence length in frames");
 ABSL_FLAG(uint64_t, seed, 1, "Seed of the synthetic handheld shake and sensor noise");
-ABSL_FLAG(std::string, camera, "icl",
-          "Camera preset (icl, icl_fy_positive, tum_fr1, tum_fr2, tum_fr3) of a synthetic scene, "
-          "or of a dataset folder without camera.txt");
+ABSL_FLAG(std::string, camera, "auto",
+          "Camera preset (icl, icl_fy_positive, tum_fr1, tum_fr2, tum_fr3) of a synthetic scene "
+          "(auto: icl), or of a dataset folder without camera.txt (auto: the preset the folder's "
+          "name implies, e.g. rgbd_dataset_freiburg1_rpy gives tum_fr1; an error if it implies "
+          "none)");
 
 namespace nidevo::cli {
 

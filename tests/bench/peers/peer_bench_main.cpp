@@ -30,7 +30,8 @@ ABSL_FLAG(std::string, scenes, "office/rich/none,office/low/icl,corridor/low/icl
 ABSL_FLAG(int, frames, 300, "Frames of each synthetic sequence");
 ABSL_FLAG(uint64_t, seed, 1, "Seed of the synthetic sequences");
 ABSL_FLAG(std::string, datasets, "", "TUM/ICL-NUIM folders, comma-separated");
-ABSL_FLAG(std::string, camera, "tum_fr1", "Camera preset of a dataset folder without camera.txt");
+ABSL_FLAG(std::string, camera, "auto",
+          "Camera preset of a dataset folder without camera.txt (auto: the one its name implies)");
 ABSL_FLAG(int, max_frames, 0, "At most this many frames of each dataset (0: all)");
 ABSL_FLAG(std::string, methods, "",
           "Methods to run, comma-separated (default: nidevo and every peer of this build)");

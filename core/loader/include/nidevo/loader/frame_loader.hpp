@@ -14,9 +14,12 @@ namespace nidevo::cli {
 struct LoadedSequence {
   std::string name;
   Camera camera;
+  std::string camera_source;  // where the camera came from, for the user to check
   std::vector<RgbdFrame> frames;
   Trajectory ground_truth;  // empty when the source has none
 };
+
+inline constexpr const char* kAutoCamera = "auto";
 
 // "scene:office" style sources render synthetic sequences; anything else is a dataset folder.
 struct SequenceSource {
@@ -26,8 +29,10 @@ struct SequenceSource {
   std::string noise = "none";
   int frames = 300;
   uint64_t seed = 1;
-  std::string camera = "icl";  // preset for a synthetic scene, or a folder without camera.txt
-  size_t max_frames = 0;       // 0: all
+  // Preset for a synthetic scene ("auto": icl), or for a folder without camera.txt ("auto":
+  // the preset the folder's name implies, else an error).
+  std::string camera = kAutoCamera;
+  size_t max_frames = 0;  // 0: all
 };
 
 // Throws std::exception with a message naming what is wrong.
