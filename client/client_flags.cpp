@@ -21,6 +21,11 @@ ABSL_FLAG(double, connect_timeout_s, kDefaults.connect_timeout_s,
           "Give up connecting (and on unary calls) after this long");
 ABSL_FLAG(double, keepalive_time_s, kDefaults.keepalive_time_s,
           "HTTP/2 keepalive ping interval (the server accepts 10 s or more by default)");
+ABSL_FLAG(int, http2_stream_window_bytes, kDefaults.http2_stream_window_bytes,
+          "HTTP/2 receive window of each stream, bytes (0: gRPC's default); the frames sent obey "
+          "the server's --http2_stream_window_bytes");
+ABSL_FLAG(int, http2_max_frame_bytes, kDefaults.http2_max_frame_bytes,
+          "Largest HTTP/2 frame the server may send, bytes (0: gRPC's default, 16 KiB)");
 ABSL_FLAG(std::string, load_balancing, "",
           "gRPC load-balancing policy, e.g. round_robin with a dns:/// target");
 
@@ -71,6 +76,11 @@ ChannelOptions channelOptionsFromFlags() {
     o.bearer_token = readBearerToken(path);
   o.connect_timeout_s = absl::GetFlag(FLAGS_connect_timeout_s);
   o.keepalive_time_s = absl::GetFlag(FLAGS_keepalive_time_s);
+  o.http2_stream_window_bytes = absl::GetFlag(FLAGS_http2_stream_window_bytes);
+  o.http2_max_frame_bytes = absl::GetFlag(FLAGS_http2_max_frame_bytes);
+  if (o.http2_stream_window_bytes < 0 || o.http2_max_frame_bytes < 0)
+    throw std::invalid_argument(
+        "--http2_stream_window_bytes and --http2_max_frame_bytes: not negative");
   o.load_balancing = absl::GetFlag(FLAGS_load_balancing);
   return o;
 }

@@ -72,6 +72,10 @@ Client::Client(const ChannelOptions& options) : options_(options) {
   args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 200);
   args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 200);
   args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
+  if (options.http2_stream_window_bytes > 0)
+    args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, options.http2_stream_window_bytes);
+  if (options.http2_max_frame_bytes > 0)
+    args.SetInt(GRPC_ARG_HTTP2_MAX_FRAME_SIZE, options.http2_max_frame_bytes);
   if (!options.load_balancing.empty()) args.SetLoadBalancingPolicyName(options.load_balancing);
   std::shared_ptr<grpc::ChannelCredentials> creds;
   if (options.tls) {

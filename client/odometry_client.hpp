@@ -28,7 +28,11 @@ struct ChannelOptions {
   // Keepalive matching the server's defaults (it accepts pings every 10 s or slower).
   double keepalive_time_s = 60;
   double keepalive_timeout_s = 20;
-  double connect_timeout_s = 5;     // open() and the unary calls wait this long for a connection
+  double connect_timeout_s = 5;  // open() and the unary calls wait this long for a connection
+  // HTTP/2 flow control of what comes back (0: gRPC's defaults); the server's own settings
+  // govern the frames sent.
+  int http2_stream_window_bytes = 0;
+  int http2_max_frame_bytes = 0;
   std::string load_balancing = "";  // e.g. "round_robin" with a dns:/// target (headless Service)
 };
 

@@ -17,6 +17,12 @@ std::string ServerConfig::validate() const {
   if (!(min_client_ping_interval_s >= 0)) return "min_client_ping_interval_s: must not be negative";
   if (!(max_connection_age_s >= 0)) return "max_connection_age_s: must not be negative";
   if (!(max_connection_age_grace_s >= 0)) return "max_connection_age_grace_s: must not be negative";
+  if (http2_stream_window_bytes != 0 &&
+      (http2_stream_window_bytes < 65535 || http2_stream_window_bytes > (1 << 30)))
+    return "http2_stream_window_bytes: must be 0 (gRPC's default) or 65535..1073741824";
+  if (http2_max_frame_bytes != 0 &&
+      (http2_max_frame_bytes < 16384 || http2_max_frame_bytes > 16777215))
+    return "http2_max_frame_bytes: must be 0 (gRPC's default) or 16384..16777215";
   if (std::string e = odometry.validate(); !e.empty()) return e;
   return {};
 }

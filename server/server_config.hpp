@@ -24,6 +24,11 @@ struct ServerConfig {
   double min_client_ping_interval_s = 10;  // pings more frequent than this: GOAWAY too_many_pings
   double max_connection_age_s = 0;         // 0: unlimited (sessions are long-lived streams)
   double max_connection_age_grace_s = 0;
+  // HTTP/2 flow control of the frames coming in. A stream's receive window (gRPC's "lookahead";
+  // 0: gRPC's default, 64 KiB growing with its BDP probe) and the largest HTTP/2 frame a
+  // client may send (0: gRPC's default, 16 KiB). A raw VGA frame is 0.9 MB.
+  int http2_stream_window_bytes = 0;
+  int http2_max_frame_bytes = 0;
   OdometryConfig odometry;
 
   // Empty when valid, else a message naming the bad setting.

@@ -64,6 +64,11 @@ ABSL_FLAG(double, max_connection_age_s, kDefaults.max_connection_age_s,
           "one connection, so keep it above the longest session plus the grace)");
 ABSL_FLAG(double, max_connection_age_grace_s, kDefaults.max_connection_age_grace_s,
           "Time streams get to finish after max_connection_age; 0: unlimited");
+ABSL_FLAG(int, http2_stream_window_bytes, kDefaults.http2_stream_window_bytes,
+          "HTTP/2 receive window of each stream, bytes (0: gRPC's default, 64 KiB growing with "
+          "its bandwidth-delay probe)");
+ABSL_FLAG(int, http2_max_frame_bytes, kDefaults.http2_max_frame_bytes,
+          "Largest HTTP/2 frame clients may send, bytes (0: gRPC's default, 16 KiB)");
 ABSL_FLAG(std::string, tls_cert_file, "", "PEM certificate chain; with --tls_key_file enables TLS");
 ABSL_FLAG(std::string, tls_key_file, "", "PEM private key of --tls_cert_file");
 ABSL_FLAG(std::string, tls_client_ca_file, "",
@@ -105,6 +110,8 @@ ServerConfig configFromFlags() {
   c.min_client_ping_interval_s = absl::GetFlag(FLAGS_min_client_ping_interval_s);
   c.max_connection_age_s = absl::GetFlag(FLAGS_max_connection_age_s);
   c.max_connection_age_grace_s = absl::GetFlag(FLAGS_max_connection_age_grace_s);
+  c.http2_stream_window_bytes = absl::GetFlag(FLAGS_http2_stream_window_bytes);
+  c.http2_max_frame_bytes = absl::GetFlag(FLAGS_http2_max_frame_bytes);
   c.odometry = nidevo::cli::odometryConfigFromFlags();
   return c;
 }
@@ -183,7 +190,7 @@ int serveMetrics(const ServerConfig& config, nidevo::server::ServerMetrics& metr
   return (*exposer)->GetListeningPorts().at(0);
 }
 
-// Listening port, message size and the HTTP/2 keepalive and connection-age policy.
+// Listening port, message size, the HTTP/2 keepalive and connection-age policy and flow control.
 void configureTransport(const ServerConfig& config, grpc::ServerBuilder* builder, int* grpc_port) {
   builder->AddListeningPort(config.address, credentials(), grpc_port);
   builder->SetMaxReceiveMessageSize(int(std::min<int64_t>(config.max_message_bytes, INT32_MAX)));
@@ -192,6 +199,11 @@ void configureTransport(const ServerConfig& config, grpc::ServerBuilder* builder
   builder->AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
                               ms(config.min_client_ping_interval_s));
   builder->AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  if (config.http2_stream_window_bytes > 0)
+    builder->AddChannelArgument(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES,
+                                config.http2_stream_window_bytes);
+  if (config.http2_max_frame_bytes > 0)
+    builder->AddChannelArgument(GRPC_ARG_HTTP2_MAX_FRAME_SIZE, config.http2_max_frame_bytes);
   if (config.max_connection_age_s > 0) {
     builder->AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_MS, ms(config.max_connection_age_s));
     if (config.max_connection_age_grace_s > 0)

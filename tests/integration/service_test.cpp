@@ -78,6 +78,22 @@ TEST(Service, PosesEqualTheOfflinePipeline) {
   (void)offline;
 }
 
+TEST(Service, LargerHttp2WindowsAndFramesOnBothEndsCarryTheSamePoses) {
+  // 8 MiB windows and 1 MiB HTTP/2 frames: a raw VGA frame crosses in one window, in a frame
+  // or two, where gRPC's defaults (64 KiB, 16 KiB) need a window update every 64 KiB.
+  ServerProcess server({"--http2_stream_window_bytes=8388608", "--http2_max_frame_bytes=1048576"});
+  client::ChannelOptions channel = channelTo(server);
+  channel.http2_stream_window_bytes = 8 << 20;
+  channel.http2_max_frame_bytes = 1 << 20;
+  Client client(channel);
+  TestSequence quantised = renderOffice(12, 1);
+  for (auto& f : quantised.frames)
+    for (float& d : f.depth.data) d = d > 0 ? float(std::round(d * 5000.0)) * (1.f / 5000.f) : 0;
+  const StreamResult result = streamSequence(client, quantised, parseFrameEncoding("raw"));
+  ASSERT_TRUE(result.status.ok()) << result.status.error_message();
+  expectSamePoses(result.responses, offlinePoses(quantised));
+}
+
 TEST(Service, AnInitialPoseSetsTheWorldFrameOfEveryPose) {
   ServerProcess server;
   Client client(channelTo(server));
