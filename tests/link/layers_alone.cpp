@@ -55,7 +55,23 @@ int main(int argc, char** argv) {
   nidevo::cli::init(argc, argv, "layers_alone");
   const nidevo::OdometryConfig config = nidevo::cli::odometryConfigFromFlags();
   std::printf("cli alone: cell_size %d\n", config.cell_size);
-  return config.validate().empty() ? 0 : 1;
+  // The flags' defaults (printed as short decimals) read back to the config's own floats.
+  const nidevo::OdometryConfig d;
+  const bool same_floats =
+      config.align_confirm_eigenvalue == d.align_confirm_eigenvalue &&
+      config.align_confirm_step_m == d.align_confirm_step_m &&
+      config.align_converged_m == d.align_converged_m &&
+      config.align_min_eigenvalue == d.align_min_eigenvalue &&
+      config.align_photometric_weight == d.align_photometric_weight &&
+      config.kcc_label_sigma == d.kcc_label_sigma && config.kcc_prior_ratio == d.kcc_prior_ratio &&
+      config.min_plane_fraction == d.min_plane_fraction &&
+      config.projection_border_fade == d.projection_border_fade &&
+      config.psr_bound == d.psr_bound && config.reference_min_overlap == d.reference_min_overlap &&
+      config.verify_max_rms_m == d.verify_max_rms_m &&
+      config.verify_min_inliers == d.verify_min_inliers &&
+      config.verify_min_ncc == d.verify_min_ncc;
+  if (!same_floats) std::printf("cli alone: a flag's default differs from OdometryConfig's\n");
+  return config.validate().empty() && same_floats ? 0 : 1;
 #elif NIDEVO_LAYER_LOADER
   (void)argc, (void)argv;
   nidevo::cli::SequenceSource source;

@@ -1,13 +1,24 @@
 #include "nidevo/cli/odometry_flags.hpp"
 
+#include <charconv>
+#include <cstdlib>
 #include <stdexcept>
+#include <string>
 
 #include "absl/flags/flag.h"
 #include "nidevo/cli/cli.hpp"
 
 namespace {
 const nidevo::OdometryConfig kDefaults;
+
+// A float default as the shortest decimal that reads back to the same float, so that --help
+// shows 0.0003 rather than 0.00030000001424923539 (the double nearest the float).
+double shortestDecimal(float value) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  return std::strtod(std::string(text, end).c_str(), nullptr);
 }
+}  // namespace
 
 NIDEVO_FLAG_HEADING("Odometry (METHOD.md; defaults are OdometryConfig's)");
 ABSL_FLAG(int, cell_size, kDefaults.cell_size, "Normal-map box filter side (paper Table 3)");
@@ -17,7 +28,7 @@ ABSL_FLAG(std::string, rotation_method, nidevo::toString(kDefaults.rotation_meth
           "best_pair (paper) or closed_form (SVD over all planes)");
 ABSL_FLAG(std::string, plane_normal, nidevo::toString(kDefaults.plane_normal),
           "Plane normal per frame: median (paper) or fit (least-squares plane through the points)");
-ABSL_FLAG(double, min_plane_fraction, kDefaults.min_plane_fraction,
+ABSL_FLAG(double, min_plane_fraction, shortestDecimal(kDefaults.min_plane_fraction),
           "Smallest plane, as a fraction of the normal map's pixels");
 ABSL_FLAG(int, projection_width, kDefaults.projection_width, "Orthographic projection width");
 ABSL_FLAG(int, projection_height, kDefaults.projection_height, "Orthographic projection height");
@@ -26,51 +37,51 @@ ABSL_FLAG(int, projection_stride, kDefaults.projection_stride,
 ABSL_FLAG(bool, fft_measure, kDefaults.fft_measure,
           "Time FFTW plans (FFTW_MEASURE): poses then differ in the last bits between runs");
 ABSL_FLAG(bool, kcc_depth, kDefaults.kcc_use_depth, "Correlate depth as a second KCC channel");
-ABSL_FLAG(double, kcc_label_sigma, kDefaults.kcc_label_sigma,
+ABSL_FLAG(double, kcc_label_sigma, shortestDecimal(kDefaults.kcc_label_sigma),
           "KCC label: 0 = delta (authors), else a Gaussian of this many pixels");
 ABSL_FLAG(bool, flatten_outline, kDefaults.projection_flatten_outline,
           "Empty projection cells take the mean grey instead of 0.5 (authors), and contrast fades "
           "towards the image border");
-ABSL_FLAG(double, border_fade, kDefaults.projection_border_fade,
+ABSL_FLAG(double, border_fade, shortestDecimal(kDefaults.projection_border_fade),
           "Width of that fade as a fraction of the image width");
 ABSL_FLAG(int, fill_gap, kDefaults.projection_fill_gap,
           "Fill projection holes of up to this many cells within one surface (0: off)");
 ABSL_FLAG(bool, subpixel, kDefaults.subpixel_peak, "Sub-pixel refinement of the KCC peak");
 ABSL_FLAG(int, rotation_keyframe_interval, kDefaults.rotation_keyframe_interval,
           "Renew the rotation keyframe at least every this many frames");
-ABSL_FLAG(double, psr_bound, kDefaults.psr_bound,
+ABSL_FLAG(double, psr_bound, shortestDecimal(kDefaults.psr_bound),
           "Translation keyframe renewed at or below this PSR (paper: 50)");
 ABSL_FLAG(bool, predicted_association, kDefaults.predicted_association,
           "Plane association through the predicted rotation (false: the same pixel, as the paper)");
-ABSL_FLAG(double, kcc_prior_ratio, kDefaults.kcc_prior_ratio,
+ABSL_FLAG(double, kcc_prior_ratio, shortestDecimal(kDefaults.kcc_prior_ratio),
           "KCC maxima of at least this fraction of the highest compete; the one nearest the "
           "predicted shift wins (1: the highest only)");
 
 ABSL_FLAG(int, align_iterations, kDefaults.align_iterations,
           "Pose check: refinement steps on the constrained directions (0: the method's pose is "
           "only checked)");
-ABSL_FLAG(double, align_converged, kDefaults.align_converged_m,
+ABSL_FLAG(double, align_converged, shortestDecimal(kDefaults.align_converged_m),
           "Pose check: a refinement step moving the surface less than this (m) ends it");
-ABSL_FLAG(double, align_min_eigenvalue, kDefaults.align_min_eigenvalue,
+ABSL_FLAG(double, align_min_eigenvalue, shortestDecimal(kDefaults.align_min_eigenvalue),
           "Directions the geometry constrains less than this keep the hypothesis' value");
-ABSL_FLAG(double, align_photometric_weight, kDefaults.align_photometric_weight,
+ABSL_FLAG(double, align_photometric_weight, shortestDecimal(kDefaults.align_photometric_weight),
           "Grey-value residuals in the refinement, metres per grey unit (0: depth only)");
-ABSL_FLAG(double, align_confirm_eigenvalue, kDefaults.align_confirm_eigenvalue,
+ABSL_FLAG(double, align_confirm_eigenvalue, shortestDecimal(kDefaults.align_confirm_eigenvalue),
           "A weaker direction of at least this eigenvalue confirms the hypothesis when its step "
           "stays within --align_confirm_step (0: never)");
-ABSL_FLAG(double, align_confirm_step, kDefaults.align_confirm_step_m,
+ABSL_FLAG(double, align_confirm_step, shortestDecimal(kDefaults.align_confirm_step_m),
           "Largest would-be step along a weak direction that confirms the hypothesis (m)");
 ABSL_FLAG(int, align_polish_iterations, kDefaults.align_polish_iterations,
           "Grey-value refinement steps after depth alone fixed all six directions (0: none)");
 ABSL_FLAG(int, verify_sample_step, kDefaults.verify_sample_step,
           "Check every n-th smooth normal-map pixel of the reference");
-ABSL_FLAG(double, verify_min_inliers, kDefaults.verify_min_inliers,
+ABSL_FLAG(double, verify_min_inliers, shortestDecimal(kDefaults.verify_min_inliers),
           "Fraction of the checked points that must agree for OK");
-ABSL_FLAG(double, verify_max_rms, kDefaults.verify_max_rms_m,
+ABSL_FLAG(double, verify_max_rms, shortestDecimal(kDefaults.verify_max_rms_m),
           "Largest point-to-plane RMS (m) for OK");
-ABSL_FLAG(double, verify_min_ncc, kDefaults.verify_min_ncc,
+ABSL_FLAG(double, verify_min_ncc, shortestDecimal(kDefaults.verify_min_ncc),
           "Smallest grey-value correlation for OK, where the reference has texture");
-ABSL_FLAG(double, reference_min_overlap, kDefaults.reference_min_overlap,
+ABSL_FLAG(double, reference_min_overlap, shortestDecimal(kDefaults.reference_min_overlap),
           "Renew the reference frame when less of it is in view");
 ABSL_FLAG(int, reference_max_frames, kDefaults.reference_max_frames,
           "Renew the reference frame at least every this many frames");
