@@ -266,12 +266,73 @@ TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
 TEST(MotionModel, DecaysTowardsStandingStill) {
   MotionModel model(0.5);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  model.update(T, true);
+  model.update(T, true, 0.0);
   T.translation().x() = 0.1;
-  model.update(T, true);
-  EXPECT_NEAR(model.predict().translation().x(), 0.2, 1e-12);
-  model.update(model.predict(), false);
-  EXPECT_NEAR(model.predict().translation().x(), 0.2 + 0.1 * 0.5, 1e-12);
+  model.update(T, true, 1 / 30.0);
+  EXPECT_NEAR(model.predict(2 / 30.0).translation().x(), 0.2, 1e-12);
+  model.update(model.predict(2 / 30.0), false, 2 / 30.0);
+  EXPECT_NEAR(model.predict(3 / 30.0).translation().x(), 0.2 + 0.1 * 0.5, 1e-12);
+}
+
+// A 30 Hz stream whose timestamps jitter by up to 20 %, turning 2 deg a frame about y and moving
+// 1 cm a frame along it (along the axis, so that n frames are exactly n times each).
+struct JitteredStream {
+  MotionModel model;
+  double t = 0;
+  int frame = 0;
+  Eigen::Isometry3d pose(int k) const {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() =
+        Eigen::AngleAxisd(k * 2.0 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    T.translation().y() = 0.01 * k;
+    return T;
+  }
+  double timeOf(int k) const { return k / 30.0 + (k % 3 == 1 ? 0.2 : k % 3 == 2 ? -0.2 : 0) / 30; }
+  void feed(int frames) {
+    for (int k = 0; k < frames; ++k, ++frame) model.update(pose(frame), true, timeOf(frame));
+  }
+};
+
+double rotationErrorDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180 / M_PI;
+}
+
+TEST(MotionModel, JitterCountsAsOneFrameAndADroppedFrameAsTwo) {
+  JitteredStream s;
+  s.feed(10);
+  EXPECT_EQ(s.model.framesBetween(s.timeOf(9), s.timeOf(10)), 1.0);  // a 40 ms gap
+  // The next frame, on time: one frame's motion.
+  const Eigen::Isometry3d next = s.model.predict(s.timeOf(10));
+  EXPECT_LT(rotationErrorDeg(next, s.pose(10)), 1e-9);
+  EXPECT_NEAR(next.translation().y(), 0.10, 1e-9);
+  // Frame 10 dropped: frame 11 is two frames' motion away.
+  EXPECT_EQ(s.model.framesBetween(s.timeOf(9), s.timeOf(11)), 2.0);
+  const Eigen::Isometry3d skipped = s.model.predict(s.timeOf(11));
+  EXPECT_LT(rotationErrorDeg(skipped, s.pose(11)), 1e-9);
+  EXPECT_NEAR(skipped.translation().y(), 0.11, 1e-9);
+  // A motion measured over the drop is per two frames: the frame after is one more.
+  s.model.update(s.pose(11), true, s.timeOf(11));
+  const Eigen::Isometry3d after = s.model.predict(s.timeOf(12));
+  EXPECT_LT(rotationErrorDeg(after, s.pose(12)), 1e-9);
+  EXPECT_NEAR(after.translation().y(), 0.12, 1e-9);
+}
+
+TEST(MotionModel, WithoutUsableTimestampsEveryUpdateIsOneFrame) {
+  MotionModel model;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  model.update(T, true, 0);
+  T.translation().x() = 0.1;
+  model.update(T, true, 0);  // no timestamps: all zero
+  EXPECT_NEAR(model.predict(0).translation().x(), 0.2, 1e-12);
+  EXPECT_NEAR(model.predict(-5).translation().x(), 0.2, 1e-12);  // backwards: one frame
+  EXPECT_EQ(model.framesBetween(0, 1), 1.0);
+}
+
+TEST(MotionModel, ALongPauseExtrapolatesAtMostFourFrames) {
+  JitteredStream s;
+  s.feed(10);
+  EXPECT_EQ(s.model.framesBetween(s.timeOf(9), s.timeOf(9) + 10.0), MotionModel::kMaxFrames);
+  EXPECT_NEAR(s.model.predict(s.timeOf(9) + 10.0).translation().y(), 0.09 + 0.04, 1e-9);
 }
 
 }  // namespace

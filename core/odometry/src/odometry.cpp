@@ -178,7 +178,7 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
 void Odometry::estimateRotation(FrameState* s) {
   const auto t0 = std::chrono::steady_clock::now();
   RotationState& r = *rot_;
-  const Matrix3d R_pred = r.motion.predict().linear();
+  const Matrix3d R_pred = r.motion.predict(s->timestamp).linear();
   s->planes_used = 0;
   s->overlap_pixels = 0;
   s->rotation_keyframe = false;
@@ -196,8 +196,10 @@ void Odometry::estimateRotation(FrameState* s) {
   // Re-orthonormalise so that rounding never accumulates into a non-rotation.
   s->R_world_cam = Eigen::Quaterniond(s->R_world_cam).normalized().toRotationMatrix();
   if (s->rotation_keyframe) makeRotationKeyframe(*s);
-  r.motion.update(rotationOnly(s->R_world_cam), s->rotation_source == RotationSource::kPlanes ||
-                                                    s->rotation_source == RotationSource::kInitial);
+  r.motion.update(rotationOnly(s->R_world_cam),
+                  s->rotation_source == RotationSource::kPlanes ||
+                      s->rotation_source == RotationSource::kInitial,
+                  s->timestamp);
   s->times.rotation_s = secondsSince(t0);
 }
 
@@ -314,7 +316,7 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
   out.rotation_keyframe = s->rotation_keyframe;
   out.overlap_pixels = s->overlap_pixels;
 
-  const Isometry3d T_pred = t.motion.predict();
+  const Isometry3d T_pred = t.motion.predict(s->timestamp);
   Isometry3d T = Isometry3d::Identity();
   T.linear() = s->R_world_cam;
   const char* translation_problem = nullptr;
@@ -330,7 +332,7 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
   }
   out.projection_resolution = t.resolution;
   const char* method_problem = methodProblem(*s, translation_problem);
-  t.motion.update(T, method_problem == nullptr);
+  t.motion.update(T, method_problem == nullptr, s->timestamp);
   // A KCC match with rivals nearly as high chose its peak by the prediction: not a measurement.
   const bool translation_measured =
       s->depth_ok && translation_problem == nullptr && out.kcc_rival_peaks == 0;

@@ -47,23 +47,23 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   out->state = TrackingState::kOk;
   out->reason = "";
   if (!s.depth_ok) {
-    out->T_world_cam = v.has_reference ? v.motion.predict() : T_method;
+    out->T_world_cam = v.has_reference ? v.motion.predict(s.timestamp) : T_method;
     out->state = TrackingState::kLost;
     out->reason = method_problem;
     ++v.degraded_frames;
-    v.motion.update(out->T_world_cam, false);
+    v.motion.update(out->T_world_cam, false, s.timestamp);
     return;
   }
   if (!v.has_reference) {
     out->T_world_cam = T_method;
     renewReference(s, T_method, T_method);
-    v.motion.update(T_method, true);
+    v.motion.update(T_method, true, s.timestamp);
     return;
   }
   // Hypotheses in the reference's frame, the method's first: on the common path it passes and
   // the others are never tried.
   const Isometry3d hypotheses[] = {v.T_method_ref.inverse() * T_method,
-                                   v.T_out_ref.inverse() * v.motion.predict(),
+                                   v.T_out_ref.inverse() * v.motion.predict(s.timestamp),
                                    v.T_out_ref.inverse() * v.motion.last()};
   const char* const names[] = {"method", "prediction", "last pose"};
   const Isometry3d& predicted = hypotheses[1];
@@ -123,7 +123,7 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     out->state = TrackingState::kLost;
   if (out->state == TrackingState::kOk) v.degraded_frames = 0;
   const bool ok = out->state == TrackingState::kOk;
-  v.motion.update(out->T_world_cam, ok);
+  v.motion.update(out->T_world_cam, ok, s.timestamp);
   // A failed frame renews the reference, so that the next frames are checked against what is
   // in view: a stale reference would leave every later frame unverifiable.
   if (!ok || (ok && best.overlapFraction() < config_.reference_min_overlap) ||
