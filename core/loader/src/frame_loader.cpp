@@ -53,12 +53,17 @@ Camera presetNamed(const std::string& name) {
   return *preset;
 }
 
-// A dataset's camera: the folder's camera.txt, else the preset asked for, else the preset its
-// name implies. A wrong guess here gives wrong poses that look right (ICL's fy < 0 mirrors the
-// scene), so with nothing to go on this refuses rather than guesses.
-std::pair<Camera, std::string> datasetCamera(const std::string& folder, const std::string& asked) {
+// A synthetic scene's preset: the one asked for, icl for "auto".
+std::string scenePresetName(const SequenceSource& src) {
+  return src.camera == kAutoCamera ? "icl" : src.camera;
+}
+
+// The camera of a dataset folder without camera.txt (TumDataset reads that file itself): the
+// preset asked for, else the preset its name implies. A wrong guess here gives wrong poses that
+// look right (ICL's fy < 0 mirrors the scene), so with nothing to go on this refuses rather
+// than guesses.
+std::pair<Camera, std::string> datasetPreset(const std::string& folder, const std::string& asked) {
   const std::filesystem::path file = std::filesystem::path(folder) / "camera.txt";
-  if (std::filesystem::exists(file)) return {readCameraFile(file.string()), file.string()};
   if (asked != kAutoCamera) return {presetNamed(asked), "preset " + asked + " (--camera)"};
   const auto implied = cameraPresetForFolderName(folder);
   if (!implied) {
@@ -82,15 +87,18 @@ synth::SequenceConfig syntheticSequenceConfig(const SequenceSource& src) {
   config.frames = int(src.max_frames ? std::min<size_t>(src.max_frames, size_t(src.frames))
                                      : size_t(src.frames));
   config.seed = src.seed;
-  config.camera = presetNamed(src.camera == kAutoCamera ? "icl" : src.camera);
+  config.camera = presetNamed(scenePresetName(src));
   return config;
 }
 
 LoadedSequence loadSequence(const SequenceSource& src) {
   LoadedSequence out;
   if (!src.dataset.empty()) {
-    auto [camera, camera_source] = datasetCamera(src.dataset, src.camera);
-    TumDataset ds(src.dataset, camera);
+    const std::filesystem::path file = std::filesystem::path(src.dataset) / "camera.txt";
+    auto [preset, camera_source] = std::filesystem::exists(file)
+                                       ? std::pair(Camera{}, file.string())
+                                       : datasetPreset(src.dataset, src.camera);
+    TumDataset ds(src.dataset, preset);
     size_t n = ds.size();
     if (src.max_frames) n = std::min(n, src.max_frames);
     out.name = src.dataset;
@@ -111,7 +119,7 @@ LoadedSequence loadSequence(const SequenceSource& src) {
   const synth::SyntheticSequence seq(config);
   out.name = src.scene + " (" + src.texture + " texture, " + src.noise + " noise)";
   out.camera = config.camera;
-  out.camera_source = "preset " + std::string(src.camera == kAutoCamera ? "icl" : src.camera);
+  out.camera_source = "preset " + scenePresetName(src);
   out.frames.resize(size_t(config.frames));
   parallelFor(out.frames.size(), [&](size_t i) { out.frames[i] = seq.renderFrame(int(i)); });
   out.ground_truth = seq.groundTruthTrajectory();
