@@ -390,10 +390,22 @@ TEST(Service, MisbehavingClientsDoNotHarmAnotherSession) {
   ServerProcess server({"--max_sessions=6", "--idle_timeout_s=1"});
   const TestSequence seq = renderOffice(30, 2);
   StreamResult good;
+  std::atomic<bool> good_done{false};
   std::thread good_thread([&] {
     Client client(channelTo(server));
     good = streamSequence(client, seq, parseFrameEncoding("raw-f32"));  // offline's exact frames
+    good_done = true;
   });
+  // The troublemakers start once the good session holds its slot: the session limit is shared
+  // by design, and on a loaded machine their cancelled streams could otherwise fill it before
+  // the server admits the good one.
+  {
+    Client probe(channelTo(server));
+    const auto admitted_by = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (!good_done && activeSessions(probe) == 0 &&
+           std::chrono::steady_clock::now() < admitted_by)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
   std::atomic<int> rounds{0};
   std::vector<std::thread> troublemakers;
   for (int k = 0; k < 4; ++k)
