@@ -4,7 +4,9 @@
 # the ATE, the OK share and the silent failures, and the per-status error table over the suite
 # and over the real clip. Extra arguments go to nidevo-run (e.g. --align_photometric_weight 0).
 # Usage: scripts/status_suite.sh [nidevo-run flags...]   (NIDEVO_STATUS_OUT: CSV folder,
-# default build/status; NIDEVO_STATUS_SUITE: the sequences' folder, default build/stress)
+# default build/status; NIDEVO_STATUS_SUITE: the sequences' folder, default build/stress;
+# NIDEVO_STATUS_BIN: the folder of the nidevo-run to measure, default build/bin, e.g. an older
+# build's for an A/B of the same suite)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${NIDEVO_STATUS_OUT:-build/status}
@@ -15,7 +17,7 @@ printf '%-12s %8s %8s %7s\n' sequence "ATE m" "OK" silent
 run() {  # name, nidevo-run arguments...
   local name=$1
   shift
-  build/bin/nidevo-run "$@" --frames_csv "$out/$name.csv" >"$out/$name.txt"
+  "${NIDEVO_STATUS_BIN:-build/bin}/nidevo-run" "$@" --frames_csv "$out/$name.csv" >"$out/$name.txt"
   local ate ok frames silent
   ate=$(grep -m1 rmse "$out/$name.txt" | awk '{print $2}')
   ok=$(awk -F, 'NR>1 && $3=="OK"' "$out/$name.csv" | wc -l)

@@ -266,5 +266,54 @@ TEST_F(DepthAlignmentTest, WeakDirectionsConfirmTheTruePoseAndNotAPlantedOffset)
   EXPECT_EQ(aligner_.align(sample_, cur.map, cur.intensity, map_camera, truth, p).confirmed, 0);
 }
 
+TEST(AlignmentTargetTest, HoldsEachPixelsPlaneAndGreyGradient) {
+  NormalMap map;
+  map.resize(5, 4);
+  std::vector<float> intensity(20);
+  for (int j = 0; j < 20; ++j) {
+    map.normal[size_t(j)] = Eigen::Vector3f(0.f, 0.6f, -0.8f);
+    map.points[size_t(j)] = Eigen::Vector3f(0.1f * float(j), 0.2f, 1.5f);
+    map.valid[size_t(j)] = j != 7;
+    intensity[size_t(j)] = float(j * j) / 400.f;  // a different slope everywhere
+  }
+  AlignmentTarget t;
+  buildAlignmentTarget(map, intensity, &t);
+  ASSERT_EQ(t.width, 5);
+  ASSERT_EQ(t.height, 4);
+  EXPECT_TRUE(std::isnan(t.plane[7].w())) << "no surface where the map has no normal";
+  EXPECT_FLOAT_EQ(t.plane[8].w(), 0.6f * 0.2f - 0.8f * 1.5f);  // n . q
+  EXPECT_FLOAT_EQ(t.plane[8].x(), 0.f);
+  EXPECT_FLOAT_EQ(t.plane[8].z(), -0.8f);
+  // Inner pixel (3, 1): central differences along u and v.
+  const Eigen::Vector4f& g = t.grey[8];
+  EXPECT_FLOAT_EQ(g[0], intensity[8]);
+  EXPECT_FLOAT_EQ(g[1], 0.5f * (intensity[9] - intensity[7]));
+  EXPECT_FLOAT_EQ(g[2], 0.5f * (intensity[13] - intensity[3]));
+  // Border pixels carry their grey value and no gradient.
+  EXPECT_FLOAT_EQ(t.grey[4][0], intensity[4]);
+  EXPECT_EQ(t.grey[4][1], 0.f);
+  EXPECT_EQ(t.grey[15][2], 0.f);
+}
+
+TEST_F(DepthAlignmentTest, OneTargetServesEveryHypothesisAlike) {
+  const Isometry3d truth = motion(0.03, {0.3, 1, 0.2}, {0.03, -0.02, 0.02});
+  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
+  const AlignmentParams p = alignmentParams(config_);
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  AlignmentTarget target;
+  buildAlignmentTarget(cur.map, cur.intensity, &target);
+  for (const Isometry3d& start : {Isometry3d::Identity(), truth}) {
+    const AlignmentResult shared = aligner_.align(sample_, target, map_camera, start, p);
+    const AlignmentResult own =
+        aligner_.align(sample_, cur.map, cur.intensity, map_camera, start, p);
+    EXPECT_TRUE(shared.T_ref_cur.isApprox(own.T_ref_cur, 1e-12));
+    EXPECT_EQ(shared.inliers, own.inliers);
+    EXPECT_EQ(shared.steps, own.steps);
+    const Isometry3d err = truth.inverse() * shared.T_ref_cur;
+    EXPECT_LT(angleDeg(err), 0.1);
+    EXPECT_LT(err.translation().norm(), 0.003);
+  }
+}
+
 }  // namespace
 }  // namespace nidevo

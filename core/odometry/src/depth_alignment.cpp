@@ -3,12 +3,14 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace nidevo {
 
 using Eigen::Isometry3d;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
+using Eigen::Vector3f;
 
 void SurfaceSample::clear() {
   point.clear();
@@ -30,15 +32,58 @@ void sampleSurface(const NormalMap& map, const std::vector<float>& intensity, in
   }
 }
 
+void buildAlignmentTarget(const NormalMap& map, const std::vector<float>& intensity,
+                          AlignmentTarget* out) {
+  const int W = map.width, H = map.height;
+  const size_t n = size_t(W) * size_t(H);
+  out->width = W;
+  out->height = H;
+  out->plane.resize(n);
+  out->grey.resize(n);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (size_t j = 0; j < n; ++j) {
+    const Eigen::Vector3f& normal = map.normal[j];
+    out->plane[j] = map.valid[j] ? Eigen::Vector4f(normal.x(), normal.y(), normal.z(),
+                                                   normal.dot(map.points[j]))
+                                 : Eigen::Vector4f::Constant(nan);
+  }
+  for (int v = 0; v < H; ++v) {
+    const float* row = &intensity[size_t(v) * size_t(W)];
+    Eigen::Vector4f* grey = &out->grey[size_t(v) * size_t(W)];
+    const bool inner_row = v > 0 && v + 1 < H;
+    for (int u = 0; u < W; ++u) {
+      const bool inner = inner_row && u > 0 && u + 1 < W;
+      grey[u] = inner ? Eigen::Vector4f(row[u], 0.5f * (row[u + 1] - row[u - 1]),
+                                        0.5f * (row[u + W] - row[u - W]), 0.f)
+                      : Eigen::Vector4f(row[u], 0.f, 0.f, 0.f);
+    }
+  }
+}
+
 namespace {
 
+bool hasSurface(const Eigen::Vector4f& plane) { return !std::isnan(plane.w()); }
+
+// The map camera's intrinsics in float, as the per-point loop uses them.
+struct Pinhole {
+  explicit Pinhole(const Camera& c)
+      : fx(float(c.fx)), fy(float(c.fy)), cx(float(c.cx)), cy(float(c.cy)), lens(c.distortion) {}
+  float fx, fy, cx, cy;
+  const Distortion& lens;
+};
+
 // Pixel of a camera-frame point in the (distorted) image; false behind the camera.
-bool projectToPixel(const Camera& cam, const Vector3d& p, double* u, double* v) {
-  if (p.z() <= 1e-6) return false;
-  Eigen::Vector2d xy(p.x() / p.z(), p.y() / p.z());
-  if (!cam.distortion.none()) xy = cam.distortion.distort(xy);
-  *u = cam.fx * xy.x() + cam.cx;
-  *v = cam.fy * xy.y() + cam.cy;
+bool projectToPixel(const Pinhole& cam, const Vector3f& p, float* u, float* v) {
+  if (p.z() <= 1e-6f) return false;
+  const float iz = 1.f / p.z();
+  float x = p.x() * iz, y = p.y() * iz;
+  if (!cam.lens.none()) {
+    const Eigen::Vector2d xy = cam.lens.distort(Eigen::Vector2d(x, y));
+    x = float(xy.x());
+    y = float(xy.y());
+  }
+  *u = cam.fx * x + cam.cx;
+  *v = cam.fy * y + cam.cy;
   return true;
 }
 
@@ -53,24 +98,23 @@ Isometry3d increment(const Eigen::Matrix<double, 6, 1>& xi) {
 }
 
 // Bilinear grey value at (u, v) and its gradient with respect to the camera-frame point p
-// (image gradient by central differences, times the pinhole projection's Jacobian; the lens
-// distortion's own derivative is left out: it is near 1 where texture matters).
-bool greyAndGradient(const std::vector<float>& image, int width, int height, const Camera& cam,
-                     const Vector3d& p, double u, double v, double* grey, Vector3d* gradient) {
-  const int u0 = int(std::floor(u)), v0 = int(std::floor(v));
-  if (u0 < 1 || v0 < 1 || u0 + 2 >= width || v0 + 2 >= height) return false;
-  const double a = u - u0, b = v - v0;
-  auto at = [&](int x, int y) { return double(image[size_t(y) * size_t(width) + size_t(x)]); };
-  auto bilinear = [&](int x, int y) {
-    return (1 - a) * (1 - b) * at(x, y) + a * (1 - b) * at(x + 1, y) + (1 - a) * b * at(x, y + 1) +
-           a * b * at(x + 1, y + 1);
-  };
-  *grey = bilinear(u0, v0);
-  const double gu = 0.5 * (bilinear(u0 + 1, v0) - bilinear(u0 - 1, v0));
-  const double gv = 0.5 * (bilinear(u0, v0 + 1) - bilinear(u0, v0 - 1));
-  const double iz = 1.0 / p.z();
-  *gradient = Vector3d(gu * cam.fx * iz, gv * cam.fy * iz,
-                       -(gu * cam.fx * p.x() + gv * cam.fy * p.y()) * iz * iz);
+// (the image gradient by central differences, interpolated, times the pinhole projection's
+// Jacobian; the lens distortion's own derivative is left out: it is near 1 where texture
+// matters).
+bool greyAndGradient(const AlignmentTarget& cur, const Pinhole& cam, const Vector3f& p, float u,
+                     float v, float* grey, Vector3f* gradient) {
+  if (!(u >= 1.f && v >= 1.f)) return false;
+  const int u0 = int(u), v0 = int(v);  // truncation is rounding down for u, v >= 1
+  if (u0 + 2 >= cur.width || v0 + 2 >= cur.height) return false;
+  const float a = u - float(u0), b = v - float(v0);
+  const Eigen::Vector4f* top = &cur.grey[size_t(v0) * size_t(cur.width) + size_t(u0)];
+  const Eigen::Vector4f* bottom = top + cur.width;
+  const Eigen::Vector4f s =
+      (1 - b) * ((1 - a) * top[0] + a * top[1]) + b * ((1 - a) * bottom[0] + a * bottom[1]);
+  *grey = s[0];
+  const float gu = s[1] * cam.fx, gv = s[2] * cam.fy;
+  const float iz = 1.f / p.z();
+  *gradient = Vector3f(gu * iz, gv * iz, -(gu * p.x() + gv * p.y()) * iz * iz);
   return true;
 }
 
@@ -82,9 +126,9 @@ double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std
 // One residual r with the model's derivative direction d (a normal, or a grey gradient): the
 // Jacobian row is [p x d / depth_scale, d].
 inline void DepthAligner::addRow(const Vector3d& p, const Vector3d& d, double r, double w,
-                                 double depth_scale, NormalEquations* system) {
+                                 double inverse_depth_scale, NormalEquations* system) {
   Eigen::Matrix<double, 6, 1> J;
-  J.head<3>() = p.cross(d) / depth_scale;
+  J.head<3>() = p.cross(d) * inverse_depth_scale;
   J.tail<3>() = d;
   // The whole fixed-size outer product: Eigen unrolls and vectorises it, where a
   // selfadjointView rankUpdate goes through a generic product kernel per row.
@@ -92,52 +136,85 @@ inline void DepthAligner::addRow(const Vector3d& p, const Vector3d& d, double r,
   system->b += w * r * J;
 }
 
-void DepthAligner::evaluate(const SurfaceSample& ref, const NormalMap& cur,
-                            const std::vector<float>& cur_intensity, const Camera& cam,
-                            const Isometry3d& T_cur_ref, const AlignmentParams& prm,
-                            double depth_scale, bool build_system, bool photometric,
-                            AlignmentResult* res) {
-  const Matrix3d R = T_cur_ref.linear();
-  const Vector3d t = T_cur_ref.translation();
+void DepthAligner::reserve(size_t points) {
+  warped_.reserve(points);
+  pixel_.reserve(points);
+}
+
+void DepthAligner::warp(const SurfaceSample& ref, const AlignmentTarget& cur, const Camera& camera,
+                        const Eigen::Matrix3f& R, const Vector3f& t) {
+  const Pinhole cam(camera);
+  warped_.resize(ref.size());
+  pixel_.resize(ref.size());
+  for (size_t i = 0; i < ref.size(); ++i) {
+    const Vector3f p = R * ref.point[i] + t;
+    float uf = -1, vf = -1;
+    const bool in_front = projectToPixel(cam, p, &uf, &vf);
+    // Nearest pixel; truncation is rounding down once the range test has passed.
+    const float ur = uf + 0.5f, vr = vf + 0.5f;
+    const bool inside =
+        in_front && ur >= 0.f && vr >= 0.f && ur < float(cur.width) && vr < float(cur.height);
+    warped_[i] = {p, uf, vf};
+    pixel_[i] = inside ? int(vr) * cur.width + int(ur) : -1;
+  }
+}
+
+void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur,
+                            const Camera& map_camera, const Isometry3d& T_cur_ref,
+                            const AlignmentParams& prm, double depth_scale, bool build_system,
+                            bool photometric, AlignmentResult* res) {
+  // Floats per point: metres to 1e-7 relative, far below depth noise; the sums stay double.
+  const Eigen::Matrix3f R = T_cur_ref.linear().cast<float>();
+  warp(ref, cur, map_camera, R, T_cur_ref.translation().cast<float>());
+  const Pinhole cam(map_camera);
   if (build_system) {
     depth_.setZero();
     grey_.setZero();
     system_points_ = 0;
   }
+  const double inverse_depth_scale = 1.0 / depth_scale;
   int associated = 0, inliers = 0;
   double sq = 0, sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
-  const double gate = prm.max_distance_m;
-  for (size_t i = 0; i < ref.size(); ++i) {
-    const Vector3d p = R * ref.point[i].cast<double>() + t;
-    double uf, vf;
-    if (!projectToPixel(cam, p, &uf, &vf)) continue;
-    const int u = int(std::lround(uf)), v = int(std::lround(vf));
-    if (u < 0 || v < 0 || u >= cur.width || v >= cur.height) continue;
-    const size_t j = size_t(v) * size_t(cur.width) + size_t(u);
-    if (!cur.valid[j]) continue;
+  const float gate = prm.max_distance_m;
+  // The target's pixels are scattered over more than a core's L2 cache, and a point's row of
+  // the normal equations is too long for the CPU to run far enough ahead to start the next
+  // points' loads itself.
+  constexpr size_t kPrefetchAhead = 8;
+  const size_t n = ref.size();
+  for (size_t i = 0; i < n; ++i) {
+    if (i + kPrefetchAhead < n && pixel_[i + kPrefetchAhead] >= 0) {
+      const size_t ahead = size_t(pixel_[i + kPrefetchAhead]);
+      __builtin_prefetch(&cur.plane[ahead]);
+      if (photometric) __builtin_prefetch(&cur.grey[ahead]);
+    }
+    if (pixel_[i] < 0) continue;
+    const size_t j = size_t(pixel_[i]);
+    const Eigen::Vector4f& plane = cur.plane[j];
+    if (!hasSurface(plane)) continue;
     ++associated;
-    const Vector3d n = cur.normal[j].cast<double>();
-    const Vector3d q = cur.points[j].cast<double>();
-    const double r = n.dot(q - p);
-    if (std::abs(r) > gate || n.dot(R * ref.normal[i].cast<double>()) < prm.normal_dot) continue;
+    const Vector3f& p = warped_[i].point;
+    const Vector3f n_cur = plane.head<3>();
+    const float r = plane.w() - n_cur.dot(p);
+    if (std::abs(r) > gate || n_cur.dot(R * ref.normal[i]) < prm.normal_dot) continue;
     if (std::abs(r) <= prm.inlier_m + prm.inlier_per_m * p.z()) {
       ++inliers;
-      sq += r * r;
-      const double a = ref.intensity[i], b = cur_intensity[j];
+      sq += double(r) * r;
+      const double a = ref.intensity[i], b = cur.grey[j].x();
       sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
     }
     if (!build_system) continue;
-    addRow(p, n, r, huberWeight(r, prm.inlier_m), depth_scale,
+    const Vector3d pd = p.cast<double>();
+    addRow(pd, n_cur.cast<double>(), r, huberWeight(r, prm.inlier_m), inverse_depth_scale,
            &depth_);  // scale: the inlier threshold
     ++system_points_;
     if (photometric) {
-      Eigen::Vector3d g;
-      double grey;
-      if (greyAndGradient(cur_intensity, cur.width, cur.height, cam, p, uf, vf, &grey, &g)) {
+      Vector3f g;
+      float grey;
+      if (greyAndGradient(cur, cam, p, warped_[i].u, warped_[i].v, &grey, &g)) {
         const double lambda = prm.photometric_weight;
         const double rg = gain_ * ref.intensity[i] + bias_ - grey;
-        addRow(p, lambda * g, lambda * rg, huberWeight(rg, prm.photometric_huber), depth_scale,
-               &grey_);
+        addRow(pd, lambda * g.cast<double>(), lambda * rg, huberWeight(rg, prm.photometric_huber),
+               inverse_depth_scale, &grey_);
       }
     }
   }
@@ -170,15 +247,14 @@ int constrainedDirections(const Eigen::Matrix<double, 6, 6>& H, double min_eigen
 
 }  // namespace
 
-void DepthAligner::gaussNewton(const SurfaceSample& ref, const NormalMap& cur,
-                               const std::vector<float>& cur_intensity, const Camera& map_camera,
-                               const AlignmentParams& prm, double depth_scale, bool photometric,
-                               int iterations, Isometry3d* T_cur_ref_io, AlignmentResult* result) {
+void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& cur,
+                               const Camera& map_camera, const AlignmentParams& prm,
+                               double depth_scale, bool photometric, int iterations,
+                               Isometry3d* T_cur_ref_io, AlignmentResult* result) {
   Isometry3d& T_cur_ref = *T_cur_ref_io;
   AlignmentResult& res = *result;
   for (int it = 0; it < iterations; ++it) {
-    evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, true, photometric,
-             &res);
+    evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, true, photometric, &res);
     // Too few points for six unknowns, or a step no small-motion linearisation can take: the
     // hypothesis is left as it is (and judged as it is).
     if (system_points_ < std::max(12, int(ref.size() / 20))) return;
@@ -228,6 +304,13 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& c
                                     const std::vector<float>& cur_intensity,
                                     const Camera& map_camera, const Isometry3d& T_ref_cur,
                                     const AlignmentParams& prm) {
+  buildAlignmentTarget(cur, cur_intensity, &own_target_);
+  return align(ref, own_target_, map_camera, T_ref_cur, prm);
+}
+
+AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTarget& cur,
+                                    const Camera& map_camera, const Isometry3d& T_ref_cur,
+                                    const AlignmentParams& prm) {
   AlignmentResult res;
   Isometry3d T_cur_ref = T_ref_cur.inverse();
   gain_ = 1.0;
@@ -240,16 +323,14 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& c
   // Depth alone first (its basin is wider than the grey values'); then depth and grey values
   // together: they fix what geometry leaves free, and where depth fixed everything they still
   // polish the pose in a few steps (a real sensor's depth is biased and noisy).
-  gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, false, prm.iterations,
-              &T_cur_ref, &res);
+  gaussNewton(ref, cur, map_camera, prm, depth_scale, false, prm.iterations, &T_cur_ref, &res);
   if (prm.photometric_weight > 0) {
     const int steps =
         res.constrained < 6 ? prm.iterations : std::min(prm.polish_iterations, prm.iterations);
     if (steps > 0)
-      gaussNewton(ref, cur, cur_intensity, map_camera, prm, depth_scale, true, steps, &T_cur_ref,
-                  &res);
+      gaussNewton(ref, cur, map_camera, prm, depth_scale, true, steps, &T_cur_ref, &res);
   }
-  evaluate(ref, cur, cur_intensity, map_camera, T_cur_ref, prm, depth_scale, false, false, &res);
+  evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, false, false, &res);
   res.T_ref_cur = T_cur_ref.inverse();
   return res;
 }

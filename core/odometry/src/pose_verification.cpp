@@ -70,9 +70,9 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   AlignmentResult results[3];
   CheckVerdict verdicts[3];
   int tried = 0;
+  buildAlignmentTarget(s.normals, s.map_intensity, &v.target);
   for (int h = 0; h < 3; ++h) {
-    results[h] = v.aligner.align(v.reference, s.normals, s.map_intensity, v.map_camera,
-                                 hypotheses[h], v.params);
+    results[h] = v.aligner.align(v.reference, v.target, v.map_camera, hypotheses[h], v.params);
     verdicts[h] = judgeAlignment(results[h], config_);
     tried = h + 1;
     // The common path: the method's pose passes, unhurt, near the prediction.

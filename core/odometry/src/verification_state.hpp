@@ -8,7 +8,16 @@ namespace nidevo {
 
 struct Odometry::VerificationState {
   VerificationState(const OdometryConfig& c, const Camera& camera)
-      : params(alignmentParams(c)), map_camera(camera.subsampled(c.normal_stride)) {}
+      : params(alignmentParams(c)), map_camera(camera.subsampled(c.normal_stride)) {
+    // At most every step-th map pixel in u and v, so that no later frame grows a buffer.
+    const size_t step = size_t(c.verify_sample_step);
+    const size_t most = ((size_t(camera.width / c.normal_stride) + step - 1) / step) *
+                        ((size_t(camera.height / c.normal_stride) + step - 1) / step);
+    reference.point.reserve(most);
+    reference.normal.reserve(most);
+    reference.intensity.reserve(most);
+    aligner.reserve(most);
+  }
   const AlignmentParams params;
   const Camera map_camera;
   bool has_reference = false;
@@ -19,6 +28,7 @@ struct Odometry::VerificationState {
   int degraded_frames = 0;  // consecutive; LOST beyond max_degraded_frames
   MotionModel motion;       // of the reported poses
   DepthAligner aligner;
+  AlignmentTarget target;  // the current frame, shared by the hypotheses
 };
 
 }  // namespace nidevo
