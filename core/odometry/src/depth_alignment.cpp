@@ -123,20 +123,30 @@ double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std
 
 }  // namespace
 
-// One residual r with the model's derivative direction d (a normal, or a grey gradient): the
-// Jacobian row is [p x d / depth_scale, d].
-inline void DepthAligner::addRow(const Vector3d& p, const Vector3d& d, double r, double w,
-                                 double inverse_depth_scale, NormalEquations* system) {
-  Eigen::Matrix<double, 6, 1> J;
-  J.head<3>() = p.cross(d) * inverse_depth_scale;
-  J.tail<3>() = d;
-  // The whole fixed-size outer product: Eigen unrolls and vectorises it, where a
-  // selfadjointView rankUpdate goes through a generic product kernel per row.
-  system->H.noalias() += (w * J) * J.transpose();
-  system->b += w * r * J;
+void DepthAligner::WeightedRows::add(const Vector3f& p, const Vector3f& d, float r, float w,
+                                     float inverse_depth_scale) {
+  if ((count_ + 1) * kWidth > data_.size()) data_.resize((count_ + 1) * kWidth * 2);
+  const float s = std::sqrt(w);
+  const Vector3f turn = p.cross(d) * (s * inverse_depth_scale);
+  float* row = &data_[count_ * kWidth];
+  row[0] = turn.x(), row[1] = turn.y(), row[2] = turn.z();
+  row[3] = s * d.x(), row[4] = s * d.y(), row[5] = s * d.z();
+  row[6] = s * r, row[7] = 0.f;
+  ++count_;
+}
+
+void DepthAligner::WeightedRows::sum(NormalEquations* out) const {
+  const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, kWidth, Eigen::RowMajor>> A(
+      data_.data(), Eigen::Index(count_), Eigen::Index(kWidth));
+  Eigen::Matrix<float, kWidth, kWidth> M;
+  M.noalias() = A.transpose() * A;
+  out->H = M.topLeftCorner<6, 6>().cast<double>();
+  out->b = M.block<6, 1>(0, 6).cast<double>();
 }
 
 void DepthAligner::reserve(size_t points) {
+  depth_rows_.reserve(points);
+  grey_rows_.reserve(points);
   warped_.reserve(points);
   pixel_.reserve(points);
 }
@@ -168,11 +178,11 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
   warp(ref, cur, map_camera, R, T_cur_ref.translation().cast<float>());
   const Pinhole cam(map_camera);
   if (build_system) {
-    depth_.setZero();
-    grey_.setZero();
+    depth_rows_.clear();
+    grey_rows_.clear();
     system_points_ = 0;
   }
-  const double inverse_depth_scale = 1.0 / depth_scale;
+  const float inverse_depth_scale = float(1.0 / depth_scale);
   int associated = 0, inliers = 0;
   double sq = 0, sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
   const float gate = prm.max_distance_m;
@@ -203,20 +213,23 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
       sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
     }
     if (!build_system) continue;
-    const Vector3d pd = p.cast<double>();
-    addRow(pd, n_cur.cast<double>(), r, huberWeight(r, prm.inlier_m), inverse_depth_scale,
-           &depth_);  // scale: the inlier threshold
+    depth_rows_.add(p, n_cur, r, float(huberWeight(r, prm.inlier_m)),
+                    inverse_depth_scale);  // scale: the inlier threshold
     ++system_points_;
     if (photometric) {
       Vector3f g;
       float grey;
       if (greyAndGradient(cur, cam, p, warped_[i].u, warped_[i].v, &grey, &g)) {
-        const double lambda = prm.photometric_weight;
-        const double rg = gain_ * ref.intensity[i] + bias_ - grey;
-        addRow(pd, lambda * g.cast<double>(), lambda * rg, huberWeight(rg, prm.photometric_huber),
-               inverse_depth_scale, &grey_);
+        const float lambda = prm.photometric_weight;
+        const float rg = float(gain_ * ref.intensity[i] + bias_) - grey;
+        grey_rows_.add(p, lambda * g, lambda * rg, float(huberWeight(rg, prm.photometric_huber)),
+                       inverse_depth_scale);
       }
     }
+  }
+  if (build_system) {
+    depth_rows_.sum(&depth_);
+    if (photometric) grey_rows_.sum(&grey_);
   }
   res->sampled = int(ref.size());
   res->associated = associated;
@@ -258,12 +271,11 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
     // Too few points for six unknowns, or a step no small-motion linearisation can take: the
     // hypothesis is left as it is (and judged as it is).
     if (system_points_ < std::max(12, int(ref.size() / 20))) return;
-    const Eigen::Matrix<double, 6, 6> H_depth =
-        Eigen::Matrix<double, 6, 6>(depth_.H.selfadjointView<Eigen::Lower>()) / system_points_;
+    const Eigen::Matrix<double, 6, 6> H_depth = depth_.H / system_points_;
     Eigen::Matrix<double, 6, 6> H = H_depth;
     Eigen::Matrix<double, 6, 1> b = depth_.b / system_points_;
     if (photometric) {
-      H += Eigen::Matrix<double, 6, 6>(grey_.H.selfadjointView<Eigen::Lower>()) / system_points_;
+      H += grey_.H / system_points_;
       b += grey_.b / system_points_;
     }
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H);

@@ -114,17 +114,29 @@ class DepthAligner {
   void gaussNewton(const SurfaceSample& ref, const AlignmentTarget& cur, const Camera& map_camera,
                    const AlignmentParams& params, double depth_scale, bool photometric,
                    int iterations, Eigen::Isometry3d* T_cur_ref, AlignmentResult* result);
-  // Lower triangle of J^T W J and J^T W r, of one kind of residual.
+  // J^T W J and J^T W r, of one kind of residual.
   struct NormalEquations {
-    Eigen::Matrix<double, 6, 6> H;
-    Eigen::Matrix<double, 6, 1> b;
-    void setZero() {
-      H.setZero();
-      b.setZero();
-    }
+    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
   };
-  static void addRow(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double r, double w,
-                     double inverse_depth_scale, NormalEquations* system);
+  // Rows of one kind of residual, each [J, r] times the square root of its weight, summed into
+  // normal equations by one matrix product: per row, an outer product into the 36 sums costs
+  // more than the whole product does.
+  class WeightedRows {
+   public:
+    void reserve(size_t rows) { data_.resize(rows * kWidth); }
+    void clear() { count_ = 0; }
+    // Residual r with the model's derivative direction d (a normal, or a grey gradient): the
+    // Jacobian row is [p x d / depth_scale, d].
+    void add(const Eigen::Vector3f& p, const Eigen::Vector3f& d, float r, float w,
+             float inverse_depth_scale);
+    void sum(NormalEquations* out) const;
+
+   private:
+    static constexpr size_t kWidth = 8;  // J, r, padding
+    std::vector<float> data_;
+    size_t count_ = 0;
+  };
   // Every sample point at T_cur_ref = (R, t): its camera-frame point, image position and target
   // pixel (-1 when behind the camera or outside the image), into warped_ and pixel_.
   void warp(const SurfaceSample& ref, const AlignmentTarget& cur, const Camera& map_camera,
@@ -137,7 +149,8 @@ class DepthAligner {
   std::vector<WarpedPoint> warped_;
   std::vector<int> pixel_;
 
-  AlignmentTarget own_target_;    // for the single-hypothesis align
+  AlignmentTarget own_target_;  // for the single-hypothesis align
+  WeightedRows depth_rows_, grey_rows_;
   NormalEquations depth_, grey_;  // point-to-plane rows; grey-value rows
   int system_points_ = 0;
   double gain_ = 1.0, bias_ = 0.0;  // exposure change, estimated on the previous pass
