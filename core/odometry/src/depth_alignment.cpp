@@ -39,7 +39,6 @@ void buildAlignmentTarget(const NormalMap& map, const std::vector<float>& intens
   out->width = W;
   out->height = H;
   out->plane.resize(n);
-  out->grey.resize(n);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   for (size_t j = 0; j < n; ++j) {
     const Eigen::Vector3f& normal = map.normal[j];
@@ -47,17 +46,7 @@ void buildAlignmentTarget(const NormalMap& map, const std::vector<float>& intens
                                                    normal.dot(map.points[j]))
                                  : Eigen::Vector4f::Constant(nan);
   }
-  for (int v = 0; v < H; ++v) {
-    const float* row = &intensity[size_t(v) * size_t(W)];
-    Eigen::Vector4f* grey = &out->grey[size_t(v) * size_t(W)];
-    const bool inner_row = v > 0 && v + 1 < H;
-    for (int u = 0; u < W; ++u) {
-      const bool inner = inner_row && u > 0 && u + 1 < W;
-      grey[u] = inner ? Eigen::Vector4f(row[u], 0.5f * (row[u + 1] - row[u - 1]),
-                                        0.5f * (row[u + W] - row[u - W]), 0.f)
-                      : Eigen::Vector4f(row[u], 0.f, 0.f, 0.f);
-    }
-  }
+  out->grey.assign(intensity.begin(), intensity.end());
 }
 
 namespace {
@@ -107,12 +96,14 @@ bool greyAndGradient(const AlignmentTarget& cur, const Pinhole& cam, const Vecto
   const int u0 = int(u), v0 = int(v);  // truncation is rounding down for u, v >= 1
   if (u0 + 2 >= cur.width || v0 + 2 >= cur.height) return false;
   const float a = u - float(u0), b = v - float(v0);
-  const Eigen::Vector4f* top = &cur.grey[size_t(v0) * size_t(cur.width) + size_t(u0)];
-  const Eigen::Vector4f* bottom = top + cur.width;
-  const Eigen::Vector4f s =
-      (1 - b) * ((1 - a) * top[0] + a * top[1]) + b * ((1 - a) * bottom[0] + a * bottom[1]);
-  *grey = s[0];
-  const float gu = s[1] * cam.fx, gv = s[2] * cam.fy;
+  const size_t W = size_t(cur.width);
+  const float* c = &cur.grey[size_t(v0) * W + size_t(u0)];
+  auto bilinear = [&](const float* q) {
+    return (1 - b) * ((1 - a) * q[0] + a * q[1]) + b * ((1 - a) * q[W] + a * q[W + 1]);
+  };
+  *grey = bilinear(c);
+  const float gu = 0.5f * (bilinear(c + 1) - bilinear(c - 1)) * cam.fx;
+  const float gv = 0.5f * (bilinear(c + W) - bilinear(c - W)) * cam.fy;
   const float iz = 1.f / p.z();
   *gradient = Vector3f(gu * iz, gv * iz, -(gu * p.x() + gv * p.y()) * iz * iz);
   return true;
@@ -209,7 +200,7 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
     if (std::abs(r) <= prm.inlier_m + prm.inlier_per_m * p.z()) {
       ++inliers;
       sq += double(r) * r;
-      const double a = ref.intensity[i], b = cur.grey[j].x();
+      const double a = ref.intensity[i], b = cur.grey[j];
       sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
     }
     if (!build_system) continue;
