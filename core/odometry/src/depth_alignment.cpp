@@ -56,24 +56,39 @@ bool hasSurface(const Eigen::Vector4f& plane) { return !std::isnan(plane.w()); }
 // The map camera's intrinsics in float, as the per-point loop uses them.
 struct Pinhole {
   explicit Pinhole(const Camera& c)
-      : fx(float(c.fx)), fy(float(c.fy)), cx(float(c.cx)), cy(float(c.cy)), lens(c.distortion) {}
-  float fx, fy, cx, cy;
-  const Distortion& lens;
+      : fx(float(c.fx)),
+        fy(float(c.fy)),
+        cx(float(c.cx)),
+        cy(float(c.cy)),
+        k1(float(c.distortion.k1)),
+        k2(float(c.distortion.k2)),
+        k3(float(c.distortion.k3)),
+        p1(float(c.distortion.p1)),
+        p2(float(c.distortion.p2)) {}
+  float fx, fy, cx, cy, k1, k2, k3, p1, p2;
 };
 
-// Pixel of a camera-frame point in the (distorted) image; false behind the camera.
-bool projectToPixel(const Pinhole& cam, const Vector3f& p, float* u, float* v) {
-  if (p.z() <= 1e-6f) return false;
-  const float iz = 1.f / p.z();
-  float x = p.x() * iz, y = p.y() * iz;
-  if (!cam.lens.none()) {
-    const Eigen::Vector2d xy = cam.lens.distort(Eigen::Vector2d(x, y));
-    x = float(xy.x());
-    y = float(xy.y());
-  }
-  *u = cam.fx * x + cam.cx;
-  *v = cam.fy * y + cam.cy;
-  return true;
+// Image position of the normalised point (x, y): Brown-Conrady lens, then the pinhole. T is float
+// (one point) or Eigen::Array4f (four, vectorised): the same float operations in the same order,
+// so both give the same pixels. With all lens coefficients 0 the lens is exactly the identity.
+template <typename T>
+void distortAndProject(const Pinhole& c, const T& x, const T& y, T* u, T* v) {
+  const T r2 = x * x + y * y;
+  const T radial = 1.f + r2 * (c.k1 + r2 * (c.k2 + r2 * c.k3));
+  const T xd = x * radial + 2.f * c.p1 * x * y + c.p2 * (r2 + 2.f * x * x);
+  const T yd = y * radial + c.p1 * (r2 + 2.f * y * y) + 2.f * c.p2 * x * y;
+  *u = c.fx * xd + c.cx;
+  *v = c.fy * yd + c.cy;
+}
+
+// Target pixel of a warped point at depth z and image position (u, v), or -1 when it is behind
+// the camera or outside the image.
+int nearestPixel(float z, float u, float v, int width, int height) {
+  // Truncation is rounding down once the range test has passed.
+  const float ur = u + 0.5f, vr = v + 0.5f;
+  const bool inside =
+      z > 1e-6f && ur >= 0.f && vr >= 0.f && ur < float(width) && vr < float(height);
+  return inside ? int(vr) * width + int(ur) : -1;
 }
 
 // Left-multiplied increment: rotation vector omega, translation v.
@@ -145,18 +160,40 @@ void DepthAligner::reserve(size_t points) {
 void DepthAligner::warp(const SurfaceSample& ref, const AlignmentTarget& cur, const Camera& camera,
                         const Eigen::Matrix3f& R, const Vector3f& t) {
   const Pinhole cam(camera);
-  warped_.resize(ref.size());
-  pixel_.resize(ref.size());
-  for (size_t i = 0; i < ref.size(); ++i) {
-    const Vector3f p = R * ref.point[i] + t;
-    float uf = -1, vf = -1;
-    const bool in_front = projectToPixel(cam, p, &uf, &vf);
-    // Nearest pixel; truncation is rounding down once the range test has passed.
-    const float ur = uf + 0.5f, vr = vf + 0.5f;
-    const bool inside =
-        in_front && ur >= 0.f && vr >= 0.f && ur < float(cur.width) && vr < float(cur.height);
-    warped_[i] = {p, uf, vf};
-    pixel_[i] = inside ? int(vr) * cur.width + int(ur) : -1;
+  const size_t n = ref.size();
+  warped_.resize(n);
+  pixel_.resize(n);
+  // Four points at a time: the lens polynomial is a chain of dependent operations that one
+  // point at a time leaves the CPU waiting on.
+  using Array4f = Eigen::Array4f;
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    Array4f X, Y, Z;
+    for (int k = 0; k < 4; ++k) {
+      const Vector3f& q = ref.point[i + size_t(k)];
+      X[k] = q.x(), Y[k] = q.y(), Z[k] = q.z();
+    }
+    const Array4f px = R(0, 0) * X + R(0, 1) * Y + R(0, 2) * Z + t.x();
+    const Array4f py = R(1, 0) * X + R(1, 1) * Y + R(1, 2) * Z + t.y();
+    const Array4f pz = R(2, 0) * X + R(2, 1) * Y + R(2, 2) * Z + t.z();
+    const Array4f iz = 1.f / pz.max(1e-6f);
+    Array4f u, v;
+    distortAndProject(cam, Array4f(px * iz), Array4f(py * iz), &u, &v);
+    for (int k = 0; k < 4; ++k) {
+      warped_[i + size_t(k)] = {Vector3f(px[k], py[k], pz[k]), u[k], v[k]};
+      pixel_[i + size_t(k)] = nearestPixel(pz[k], u[k], v[k], cur.width, cur.height);
+    }
+  }
+  for (; i < n; ++i) {
+    const float X = ref.point[i].x(), Y = ref.point[i].y(), Z = ref.point[i].z();
+    const float px = R(0, 0) * X + R(0, 1) * Y + R(0, 2) * Z + t.x();
+    const float py = R(1, 0) * X + R(1, 1) * Y + R(1, 2) * Z + t.y();
+    const float pz = R(2, 0) * X + R(2, 1) * Y + R(2, 2) * Z + t.z();
+    const float iz = 1.f / std::max(pz, 1e-6f);
+    float u, v;
+    distortAndProject(cam, px * iz, py * iz, &u, &v);
+    warped_[i] = {Vector3f(px, py, pz), u, v};
+    pixel_[i] = nearestPixel(pz, u, v, cur.width, cur.height);
   }
 }
 
