@@ -201,14 +201,14 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
                             const Camera& map_camera, const Isometry3d& T_cur_ref,
                             const AlignmentParams& prm, double depth_scale, bool build_system,
                             bool photometric, AlignmentResult* res) {
-  // Floats per point: metres to 1e-7 relative, far below depth noise; the sums stay double.
+  // Floats per point: metres to 1e-7 relative, far below depth noise; the 6x6 systems are
+  // solved in double.
   const Eigen::Matrix3f R = T_cur_ref.linear().cast<float>();
   warp(ref, cur, map_camera, R, T_cur_ref.translation().cast<float>());
   const Pinhole cam(map_camera);
   if (build_system) {
     depth_rows_.clear();
     grey_rows_.clear();
-    system_points_ = 0;
   }
   const float inverse_depth_scale = float(1.0 / depth_scale);
   int associated = 0, inliers = 0;
@@ -243,7 +243,6 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
     if (!build_system) continue;
     depth_rows_.add(p, n_cur, r, float(huberWeight(r, prm.inlier_m)),
                     inverse_depth_scale);  // scale: the inlier threshold
-    ++system_points_;
     if (photometric) {
       Vector3f g;
       float grey;
@@ -298,13 +297,14 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
     evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, true, photometric, &res);
     // Too few points for six unknowns, or a step no small-motion linearisation can take: the
     // hypothesis is left as it is (and judged as it is).
-    if (system_points_ < std::max(12, int(ref.size() / 20))) return;
-    const Eigen::Matrix<double, 6, 6> H_depth = depth_.H / system_points_;
+    const int system_points = int(depth_rows_.size());
+    if (system_points < std::max(12, int(ref.size() / 20))) return;
+    const Eigen::Matrix<double, 6, 6> H_depth = depth_.H / system_points;
     Eigen::Matrix<double, 6, 6> H = H_depth;
-    Eigen::Matrix<double, 6, 1> b = depth_.b / system_points_;
+    Eigen::Matrix<double, 6, 1> b = depth_.b / system_points;
     if (photometric) {
-      H += grey_.H / system_points_;
-      b += grey_.b / system_points_;
+      H += grey_.H / system_points;
+      b += grey_.b / system_points;
     }
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H);
     Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();

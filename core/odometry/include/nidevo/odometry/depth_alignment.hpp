@@ -127,6 +127,7 @@ class DepthAligner {
    public:
     void reserve(size_t rows) { data_.resize(rows * kWidth); }
     void clear() { count_ = 0; }
+    size_t size() const { return count_; }
     // Residual r with the model's derivative direction d (a normal, or a grey gradient): the
     // Jacobian row is [p x d / depth_scale, d].
     void add(const Eigen::Vector3f& p, const Eigen::Vector3f& d, float r, float w,
@@ -152,8 +153,7 @@ class DepthAligner {
 
   AlignmentTarget own_target_;  // for the single-hypothesis align
   WeightedRows depth_rows_, grey_rows_;
-  NormalEquations depth_, grey_;  // point-to-plane rows; grey-value rows
-  int system_points_ = 0;
+  NormalEquations depth_, grey_;    // point-to-plane rows; grey-value rows
   double gain_ = 1.0, bias_ = 0.0;  // exposure change, estimated on the previous pass
 };
 
