@@ -91,6 +91,7 @@ void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose,
     check->set_constrained_directions(v.constrained_directions);
     check->set_depth_constrained_directions(v.depth_constrained_directions);
     check->set_confirmed_directions(v.confirmed_directions);
+    check->set_predicted_directions(v.predicted_directions);
   } else {
     out->clear_check();
   }

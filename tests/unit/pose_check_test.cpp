@@ -101,5 +101,67 @@ TEST_F(ChooseHypothesisTest, AConfirmedWeakDirectionCountsAsFixedNearThePredicti
   EXPECT_FALSE(directionsTrusted(a, still_, roll_predicted, config_));
 }
 
+Isometry3d turned(double deg) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  return T;
+}
+
+class PredictionRecordTest : public ::testing::Test {
+ protected:
+  // A verified frame whose pose the prediction missed by `motion_error`.
+  void verify(const Isometry3d& motion_error) {
+    record_.verified(Isometry3d::Identity(), motion_error);
+  }
+  OdometryConfig config_;  // 5 frames, latest at most 3 back, 0.3 deg and 1.5 cm
+  PredictionRecord record_;
+};
+
+TEST_F(PredictionRecordTest, ReliableOnlyAfterEnoughVerifiedFrames) {
+  for (int k = 0; k < config_.prediction_trust_frames - 1; ++k) {
+    verify(shifted(0.005));
+    EXPECT_FALSE(record_.reliable(config_)) << k;
+  }
+  verify(shifted(0.005));
+  EXPECT_TRUE(record_.reliable(config_));
+}
+
+TEST_F(PredictionRecordTest, AnRmsErrorOverEitherBoundIsNotReliable) {
+  // Four exact predictions and one 3.5 cm miss: RMS 1.57 cm, over 1.5 cm.
+  for (int k = 0; k < 4; ++k) verify(Isometry3d::Identity());
+  verify(shifted(0.035));
+  EXPECT_FALSE(record_.reliable(config_));
+  for (int k = 0; k < 5; ++k) verify(shifted(0.014));  // the miss leaves the window
+  EXPECT_TRUE(record_.reliable(config_));
+  for (int k = 0; k < 5; ++k) verify(turned(0.31));
+  EXPECT_FALSE(record_.reliable(config_));
+  for (int k = 0; k < 5; ++k) verify(turned(0.29));
+  EXPECT_TRUE(record_.reliable(config_));
+}
+
+TEST_F(PredictionRecordTest, AStaleRecordIsNotReliable) {
+  for (int k = 0; k < 5; ++k) verify(Isometry3d::Identity());
+  for (int k = 0; k < config_.prediction_trust_gap - 1; ++k) record_.unverified();
+  EXPECT_TRUE(record_.reliable(config_));  // the latest verified frame is gap frames back
+  record_.unverified();
+  EXPECT_FALSE(record_.reliable(config_));
+  verify(Isometry3d::Identity());
+  EXPECT_TRUE(record_.reliable(config_));
+}
+
+TEST_F(PredictionRecordTest, ZeroFramesMeansNever) {
+  for (int k = 0; k < 20; ++k) verify(Isometry3d::Identity());
+  config_.prediction_trust_frames = 0;
+  EXPECT_FALSE(record_.reliable(config_));
+}
+
+TEST(WithinPredictionTrust, BoundsRotationAndTranslationApart) {
+  const OdometryConfig c;
+  EXPECT_TRUE(withinPredictionTrust(shifted(0.1), shifted(0.114), c));
+  EXPECT_FALSE(withinPredictionTrust(shifted(0.1), shifted(0.116), c));
+  EXPECT_TRUE(withinPredictionTrust(turned(1.0), turned(1.29), c));
+  EXPECT_FALSE(withinPredictionTrust(turned(1.0), turned(1.31), c));
+}
+
 }  // namespace
 }  // namespace nidevo

@@ -85,6 +85,18 @@ ABSL_FLAG(double, reference_min_overlap, shortestDecimal(kDefaults.reference_min
           "Renew the reference frame when less of it is in view");
 ABSL_FLAG(int, reference_max_frames, kDefaults.reference_max_frames,
           "Renew the reference frame at least every this many frames");
+ABSL_FLAG(
+    int, prediction_trust_frames, kDefaults.prediction_trust_frames,
+    "A direction the data leave free may take the motion prediction's value, and the frame "
+    "be OK, when the prediction's RMS error over this many recent verified frames is within "
+    "--prediction_trust_deg and --prediction_trust_m, and the pose as close to it (0: never)");
+ABSL_FLAG(int, prediction_trust_gap, kDefaults.prediction_trust_gap,
+          "... the latest of those frames at most this many frames back");
+ABSL_FLAG(double, prediction_trust_deg,
+          shortestDecimal(float(kDefaults.prediction_trust_rad * 180 / M_PI)),
+          "... rotation bound (deg)");
+ABSL_FLAG(double, prediction_trust_m, shortestDecimal(kDefaults.prediction_trust_m),
+          "... translation bound (m)");
 
 namespace nidevo::cli {
 
@@ -122,6 +134,10 @@ OdometryConfig odometryConfigFromFlags() {
   c.verify_min_ncc = float(absl::GetFlag(FLAGS_verify_min_ncc));
   c.reference_min_overlap = float(absl::GetFlag(FLAGS_reference_min_overlap));
   c.reference_max_frames = absl::GetFlag(FLAGS_reference_max_frames);
+  c.prediction_trust_frames = absl::GetFlag(FLAGS_prediction_trust_frames);
+  c.prediction_trust_gap = absl::GetFlag(FLAGS_prediction_trust_gap);
+  c.prediction_trust_rad = float(absl::GetFlag(FLAGS_prediction_trust_deg) * M_PI / 180);
+  c.prediction_trust_m = float(absl::GetFlag(FLAGS_prediction_trust_m));
   if (auto e = c.validate(); !e.empty()) throw std::invalid_argument(e);
   return c;
 }

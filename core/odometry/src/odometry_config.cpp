@@ -88,6 +88,11 @@ std::string OdometryConfig::validate() const {
   if (!in(hypothesis_tie, 0, 1)) return "hypothesis_tie must be in [0, 1]";
   if (!in(reference_min_overlap, 0, 1)) return "reference_min_overlap must be in [0, 1]";
   if (reference_max_frames < 1) return "reference_max_frames must be at least 1";
+  if (prediction_trust_frames < 0 || prediction_trust_frames > 16)
+    return "prediction_trust_frames must be in 0..16";
+  if (prediction_trust_gap < 1) return "prediction_trust_gap must be at least 1";
+  if (!in(prediction_trust_rad, 0, 3.2)) return "prediction_trust_rad must be in [0, 3.2]";
+  if (!in(prediction_trust_m, 0, 10)) return "prediction_trust_m must be in [0, 10]";
   if (!in(min_valid_depth_fraction, 0, 1)) return "min_valid_depth_fraction must be in [0, 1]";
   if (max_degraded_frames < 1) return "max_degraded_frames must be at least 1";
   return {};

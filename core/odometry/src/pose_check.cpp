@@ -48,6 +48,36 @@ bool directionsTrusted(const AlignmentResult& best, const Eigen::Isometry3d& T_r
          (!best.free_translation || origin.translation_measured);
 }
 
+void PredictionRecord::verified(const Eigen::Isometry3d& T_predicted,
+                                const Eigen::Isometry3d& T_verified) {
+  const Eigen::Isometry3d d = T_predicted.inverse() * T_verified;
+  angle_rad_[size_t(next_)] = float(Eigen::AngleAxisd(d.rotation()).angle());
+  distance_m_[size_t(next_)] = float(d.translation().norm());
+  next_ = (next_ + 1) % kMaxFrames;
+  count_ = std::min(count_ + 1, kMaxFrames);
+  frames_since_verified_ = 0;
+}
+
+bool PredictionRecord::reliable(const OdometryConfig& c) const {
+  const int n = c.prediction_trust_frames;
+  if (n <= 0 || count_ < n || frames_since_verified_ + 1 > c.prediction_trust_gap) return false;
+  float angle_sq = 0, distance_sq = 0;
+  for (int k = 1; k <= n; ++k) {
+    const size_t i = size_t((next_ - k + kMaxFrames) % kMaxFrames);
+    angle_sq += angle_rad_[i] * angle_rad_[i];
+    distance_sq += distance_m_[i] * distance_m_[i];
+  }
+  return std::sqrt(angle_sq / float(n)) <= c.prediction_trust_rad &&
+         std::sqrt(distance_sq / float(n)) <= c.prediction_trust_m;
+}
+
+bool withinPredictionTrust(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                           const OdometryConfig& c) {
+  const Eigen::Isometry3d d = a.inverse() * b;
+  return Eigen::AngleAxisd(d.rotation()).angle() <= c.prediction_trust_rad &&
+         d.translation().norm() <= c.prediction_trust_m;
+}
+
 HypothesisChoice chooseHypothesis(const AlignmentResult* results, const CheckVerdict* verdicts,
                                   const HypothesisOrigin* origins, int count,
                                   const Eigen::Isometry3d& T_ref_predicted,

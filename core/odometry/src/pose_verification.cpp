@@ -52,6 +52,7 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     out->reason = method_problem;
     ++v.degraded_frames;
     v.motion.update(out->T_world_cam, false, s.timestamp);
+    v.prediction.unverified();
     return;
   }
   if (!v.has_reference) {
@@ -116,17 +117,29 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     out->state = TrackingState::kDegraded;
     out->reason = "two poses fit equally (a periodic pattern?); the one nearer the prediction kept";
   } else if (!free_direction_trusted) {
-    out->state = TrackingState::kDegraded;
-    out->reason = method_problem ? method_problem : "geometry leaves a direction unverified";
+    // The free direction holds the hypothesis' value: as good as the prediction when it agrees
+    // with a prediction that has been right lately.
+    out->verification.predicted_directions =
+        v.prediction.reliable(config_) && withinPredictionTrust(best.T_ref_cur, predicted, config_);
+    if (!out->verification.predicted_directions) {
+      out->state = TrackingState::kDegraded;
+      out->reason = method_problem ? method_problem : "geometry leaves a direction unverified";
+    }
   }
   if (out->state == TrackingState::kDegraded && ++v.degraded_frames > config_.max_degraded_frames)
     out->state = TrackingState::kLost;
   if (out->state == TrackingState::kOk) v.degraded_frames = 0;
-  const bool ok = out->state == TrackingState::kOk;
-  v.motion.update(out->T_world_cam, ok, s.timestamp);
-  // A failed frame renews the reference, so that the next frames are checked against what is
-  // in view: a stale reference would leave every later frame unverifiable.
-  if (!ok || (ok && best.overlapFraction() < config_.reference_min_overlap) ||
+  // Only a pose the data fixed measures the motion; one that took the prediction's value would
+  // confirm the prediction by itself.
+  const bool verified = out->state == TrackingState::kOk && !out->verification.predicted_directions;
+  if (verified)
+    v.prediction.verified(predicted, best.T_ref_cur);
+  else
+    v.prediction.unverified();
+  v.motion.update(out->T_world_cam, verified, s.timestamp);
+  // A frame not verified renews the reference, so that the next frames are checked against what
+  // is in view: a stale reference would leave every later frame unverifiable.
+  if (!verified || best.overlapFraction() < config_.reference_min_overlap ||
       ++v.frames_since_reference >= config_.reference_max_frames) {
     renewReference(s, out->T_world_cam, T_method);
   }

@@ -3,6 +3,7 @@
 #include "nidevo/odometry/depth_alignment.hpp"
 #include "nidevo/odometry/motion_model.hpp"
 #include "nidevo/odometry/odometry.hpp"
+#include "nidevo/odometry/pose_check.hpp"
 
 namespace nidevo {
 
@@ -26,7 +27,8 @@ struct Odometry::VerificationState {
   Eigen::Isometry3d T_method_ref = Eigen::Isometry3d::Identity();  // the method's own chain
   int frames_since_reference = 0;
   int degraded_frames = 0;  // consecutive; LOST beyond max_degraded_frames
-  MotionModel motion;       // of the reported poses
+  MotionModel motion;       // of the reported poses; measured: verified
+  PredictionRecord prediction;
   DepthAligner aligner;
   AlignmentTarget target;  // the current frame, shared by the hypotheses
 };

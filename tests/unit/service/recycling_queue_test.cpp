@@ -27,7 +27,9 @@ TEST(RecyclingQueue, KeepsFifoOrderThroughWrapAroundAndGrowth) {
       expected.pop_front();
     }
     ASSERT_EQ(q.size(), expected.size());
-    if (!expected.empty()) ASSERT_EQ(q.back(), expected.back());
+    if (!expected.empty()) {
+      ASSERT_EQ(q.back(), expected.back());
+    }
   }
 }
 

@@ -49,6 +49,9 @@ struct PoseVerification {
   bool free_rotation = false;     // a direction left free is (mostly) a rotation
   bool free_translation = false;  // ... a translation
   bool passed = false;
+  // OK although a direction was left free: its value is the motion prediction's, which matched
+  // the recent verified frames (OdometryConfig::prediction_trust_frames).
+  bool predicted_directions = false;
 };
 
 struct PoseEstimate {

@@ -106,6 +106,15 @@ struct OdometryConfig {
   float hypothesis_tie = 0.02f;
   float reference_min_overlap = 0.8f;  // renew the reference when less of it is seen
   int reference_max_frames = 15;
+  // A direction the data leave free takes the hypothesis' value; when that is within
+  // prediction_trust_rad and _m of the motion prediction, and the prediction's RMS error over
+  // the last prediction_trust_frames verified frames, the latest at most prediction_trust_gap
+  // frames back, was within them too, the frame is OK (0 frames: never). The bounds are the
+  // accuracy asked of OK frames (README "Accuracy"), not fitted.
+  int prediction_trust_frames = 5;
+  int prediction_trust_gap = 3;
+  float prediction_trust_rad = 0.0052359878f;  // 0.3 deg
+  float prediction_trust_m = 0.015f;
 
   // Tracking state.
   float min_valid_depth_fraction = 0.05f;

@@ -2,6 +2,7 @@
 // The pose check's rules (stage 3's last step), apart from the state they run on: whether an
 // alignment passes, how two hypotheses compare, and whether a passing pose may be called OK.
 #include <Eigen/Geometry>
+#include <array>
 
 #include "nidevo/odometry/depth_alignment.hpp"
 #include "nidevo/odometry/odometry_config.hpp"
@@ -40,6 +41,28 @@ struct HypothesisOrigin {
 // method's word: all three are trusted near the prediction (T_ref_predicted) only.
 bool directionsTrusted(const AlignmentResult& best, const Eigen::Isometry3d& T_ref_predicted,
                        const HypothesisOrigin& origin, const OdometryConfig& c);
+
+// The motion prediction's error on the recent verified frames (verified: OK with every direction
+// fixed by the data or the method's measurement, not by the prediction itself).
+class PredictionRecord {
+ public:
+  static constexpr int kMaxFrames = 16;  // bounds OdometryConfig::prediction_trust_frames
+  void verified(const Eigen::Isometry3d& T_predicted, const Eigen::Isometry3d& T_verified);
+  void unverified() { ++frames_since_verified_; }
+  // Whether the prediction's RMS error (rotation and translation apart) over the last
+  // prediction_trust_frames verified frames, the latest at most prediction_trust_gap frames
+  // back, is within prediction_trust_rad and prediction_trust_m.
+  bool reliable(const OdometryConfig& c) const;
+
+ private:
+  std::array<float, kMaxFrames> angle_rad_{}, distance_m_{};  // a ring, next_ the oldest
+  int count_ = 0, next_ = 0;
+  int frames_since_verified_ = 0;
+};
+
+// Whether two poses differ by at most prediction_trust_rad and prediction_trust_m.
+bool withinPredictionTrust(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                           const OdometryConfig& c);
 
 // Which of `count` checked hypotheses (the method's first) gives the pose. A passing one beats a
 // failing one; among passing ones the best fit wins, except that fits within hypothesis_tie at
