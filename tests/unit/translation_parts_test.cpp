@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 
 #include "nidevo/odometry/depth_shift.hpp"
 #include "nidevo/odometry/odometry_config.hpp"
@@ -191,26 +192,34 @@ void referenceFillGaps(OrthoImage* img, int max_gap, float jump) {
 }
 
 TEST(OrthoProjection, GapFillingEqualsTheCellByCellComputation) {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> unit(0.f, 1.f);
-  OrthoImage img;
-  img.resize(67, 41);
-  for (size_t c = 0; c < img.depth.size(); ++c) {
-    // Two surfaces (a depth step at u = 30), with holes of every length up to 4.
-    const int u = int(c % 67);
-    img.depth[c] = unit(rng) < 0.35f ? 0.f : (u < 30 ? 2.f : 2.5f) + 0.01f * unit(rng);
-    img.gray[c] = unit(rng);
-    img.weight[c] = unit(rng);
+  // Widths on, under and over the row mask's 64-cell words; gaps up to twice the longest filled.
+  for (const int W : {1, 5, 63, 64, 67, 129, 320}) {
+    for (const int max_gap : {1, 2, 4}) {
+      SCOPED_TRACE("width " + std::to_string(W) + ", max_gap " + std::to_string(max_gap));
+      std::mt19937 rng(11 + unsigned(W) * 7 + unsigned(max_gap));
+      std::uniform_real_distribution<float> unit(0.f, 1.f);
+      OrthoImage img;
+      img.resize(W, 41);
+      for (size_t c = 0; c < img.depth.size(); ++c) {
+        // Two surfaces (a depth step at u = 30), with holes of every length up to about 8.
+        const int u = int(c % size_t(W));
+        img.depth[c] = unit(rng) < 0.35f ? 0.f : (u < 30 ? 2.f : 2.5f) + 0.01f * unit(rng);
+        img.gray[c] = unit(rng);
+        img.weight[c] = unit(rng);
+      }
+      OrthoImage expected = img;
+      const int filled_before = img.filledCount();
+      OrthoProjector projector;
+      projector.fillGaps(&img, max_gap, 0.05f);
+      referenceFillGaps(&expected, max_gap, 0.05f);
+      if (W >= 64) {
+        EXPECT_GT(img.filledCount(), filled_before + W);
+      }
+      EXPECT_EQ(img.depth, expected.depth);
+      EXPECT_EQ(img.gray, expected.gray);
+      EXPECT_EQ(img.weight, expected.weight);
+    }
   }
-  OrthoImage expected = img;
-  const int filled_before = img.filledCount();
-  OrthoProjector projector;
-  projector.fillGaps(&img, 2, 0.05f);
-  referenceFillGaps(&expected, 2, 0.05f);
-  EXPECT_GT(img.filledCount(), filled_before + 100);
-  EXPECT_EQ(img.depth, expected.depth);
-  EXPECT_EQ(img.gray, expected.gray);
-  EXPECT_EQ(img.weight, expected.weight);
 }
 
 TEST(OrthoProjection, GapsAreFilledWithinASurfaceOnly) {

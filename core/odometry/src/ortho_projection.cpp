@@ -2,7 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace nidevo {
 
@@ -134,16 +139,54 @@ void interpolateGap(float* gray, float* depth, float* weight, size_t stride, int
   }
 }
 
-// One row, run by run: find the end of a filled run, then the end of the empty run after it.
-void fillRow(float* gray, float* depth, float* weight, int count, int max_gap, float jump) {
-  int i = 0;
-  while (i < count && depth[i] <= 0.f) ++i;
-  while (i < count) {
-    while (i < count && depth[i] > 0.f) ++i;
-    const int last = i - 1;  // last filled cell before the gap
-    while (i < count && depth[i] <= 0.f) ++i;
-    if (i >= count) break;  // no filled cell after the gap
-    if (i - last - 1 <= max_gap) interpolateGap(gray, depth, weight, 1, last, i, jump);
+// Bit i % 64 of words[i / 64]: cell i of the row is filled. SSE2 compares four cells at once.
+void filledMask(const float* depth, int count, uint64_t* words) {
+  for (int w = 0; w * 64 < count; ++w) {
+    const int begin = w * 64, end = std::min(count, begin + 64);
+    uint64_t bits = 0;
+    int i = begin;
+#if defined(__SSE2__)
+    const __m128 zero = _mm_setzero_ps();
+    for (; i + 4 <= end; i += 4) {
+      const int four = _mm_movemask_ps(_mm_cmpgt_ps(_mm_loadu_ps(depth + i), zero));
+      bits |= uint64_t(unsigned(four)) << (i - begin);
+    }
+#endif
+    for (; i < end; ++i) bits |= uint64_t(depth[i] > 0.f) << (i - begin);
+    words[w] = bits;
+  }
+}
+
+// The first filled cell at or after `from`, or -1.
+int nextFilled(const uint64_t* words, int word_count, int from) {
+  int w = from / 64;
+  if (w >= word_count) return -1;
+  uint64_t bits = words[w] & (~uint64_t(0) << (from % 64));
+  while (bits == 0) {
+    if (++w == word_count) return -1;
+    bits = words[w];
+  }
+  return w * 64 + __builtin_ctzll(bits);
+}
+
+// One row, gap by gap: the gaps' first cells (empty, filled on the left) come from the filled
+// mask a word at a time, so that the cost follows the number of gaps, not of cells, and no
+// branch depends on each cell (the cell-by-cell walk mispredicted at every run's end).
+void fillRow(float* gray, float* depth, float* weight, int count, int max_gap, float jump,
+             uint64_t* words) {
+  filledMask(depth, count, words);
+  const int word_count = (count + 63) / 64;
+  for (int w = 0; w < word_count; ++w) {
+    const uint64_t filled_left = (words[w] << 1) | (w > 0 ? words[w - 1] >> 63 : 0);
+    uint64_t starts = ~words[w] & filled_left;
+    if (count - w * 64 < 64) starts &= (uint64_t(1) << (count - w * 64)) - 1;
+    while (starts != 0) {
+      const int start = w * 64 + __builtin_ctzll(starts);
+      starts &= starts - 1;
+      const int next = nextFilled(words, word_count, start + 1);
+      if (next < 0) return;  // no filled cell after the gap
+      if (next - start <= max_gap) interpolateGap(gray, depth, weight, 1, start - 1, next, jump);
+    }
   }
 }
 
@@ -170,9 +213,10 @@ bool columnGapsEndingAt(const float* __restrict depth_row, int width, int v, int
 void OrthoProjector::fillGaps(OrthoImage* img, int max_gap, float relative_depth_jump) {
   if (max_gap <= 0) return;
   const int W = img->width, H = img->height;
+  row_filled_.resize(size_t(W + 63) / 64);
   for (int v = 0; v < H; ++v) {
     fillRow(&img->gray[size_t(v) * W], &img->depth[size_t(v) * W], &img->weight[size_t(v) * W], W,
-            max_gap, relative_depth_jump);
+            max_gap, relative_depth_jump, row_filled_.data());
   }
   // Columns the same way, but walked row by row with one state per column: a column walk
   // would touch a new cache line at every cell.

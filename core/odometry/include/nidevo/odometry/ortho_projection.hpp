@@ -2,6 +2,7 @@
 // Stage 3a: orthographic projection of a rotated point cloud (paper Eq. 3) into grey and depth
 // images: u = x / r + W/2, v = y / r + H/2, nearest point wins.
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "nidevo/odometry/selection.hpp"
@@ -54,6 +55,7 @@ class OrthoProjector {
   std::vector<float> cell_depth_;  // project: each point's depth along the projection axis
   std::vector<int> column_last_;   // fillGaps: last filled row of each column
   std::vector<int> column_from_;   // fillGaps: per column, the row before a gap ending here, or -1
+  std::vector<uint64_t> row_filled_;  // fillGaps: one bit per cell of a row, set where filled
 };
 
 }  // namespace nidevo
