@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "lens_projection.hpp"
+
 namespace nidevo {
 
 using Eigen::Isometry3d;
@@ -52,44 +54,6 @@ void buildAlignmentTarget(const NormalMap& map, const std::vector<float>& intens
 namespace {
 
 bool hasSurface(const Eigen::Vector4f& plane) { return !std::isnan(plane.w()); }
-
-// The map camera's intrinsics in float, as the per-point loop uses them.
-struct Pinhole {
-  explicit Pinhole(const Camera& c)
-      : fx(float(c.fx)),
-        fy(float(c.fy)),
-        cx(float(c.cx)),
-        cy(float(c.cy)),
-        k1(float(c.distortion.k1)),
-        k2(float(c.distortion.k2)),
-        k3(float(c.distortion.k3)),
-        p1(float(c.distortion.p1)),
-        p2(float(c.distortion.p2)) {}
-  float fx, fy, cx, cy, k1, k2, k3, p1, p2;
-};
-
-// Image position of the normalised point (x, y): Brown-Conrady lens, then the pinhole. T is float
-// (one point) or Eigen::Array4f (four, vectorised): the same float operations in the same order,
-// so both give the same pixels. With all lens coefficients 0 the lens is exactly the identity.
-template <typename T>
-void distortAndProject(const Pinhole& c, const T& x, const T& y, T* u, T* v) {
-  const T r2 = x * x + y * y;
-  const T radial = 1.f + r2 * (c.k1 + r2 * (c.k2 + r2 * c.k3));
-  const T xd = x * radial + 2.f * c.p1 * x * y + c.p2 * (r2 + 2.f * x * x);
-  const T yd = y * radial + c.p1 * (r2 + 2.f * y * y) + 2.f * c.p2 * x * y;
-  *u = c.fx * xd + c.cx;
-  *v = c.fy * yd + c.cy;
-}
-
-// Target pixel of a warped point at depth z and image position (u, v), or -1 when it is behind
-// the camera or outside the image.
-int nearestPixel(float z, float u, float v, int width, int height) {
-  // Truncation is rounding down once the range test has passed.
-  const float ur = u + 0.5f, vr = v + 0.5f;
-  const bool inside =
-      z > 1e-6f && ur >= 0.f && vr >= 0.f && ur < float(width) && vr < float(height);
-  return inside ? int(vr) * width + int(ur) : -1;
-}
 
 // Left-multiplied increment: rotation vector omega, translation v.
 Isometry3d increment(const Eigen::Matrix<double, 6, 1>& xi) {

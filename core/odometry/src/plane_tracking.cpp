@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "lens_projection.hpp"
+
 namespace nidevo {
 
 PlaneNormalEstimator parsePlaneNormalEstimator(const std::string& name) {
@@ -121,15 +123,37 @@ PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, i
   return {pk.normal, pc.normal, int(count)};
 }
 
-int PlaneTracker::warpedKeyPixel(const NormalMap& cur, size_t i, const PlaneWarp& warp) const {
-  const Eigen::Vector3f p = warp.R_key_cur * cur.points[i];
-  if (p.z() <= 1e-6f) return -1;
-  const Camera& cam = warp.map_camera;
-  Eigen::Vector2d xy(double(p.x() / p.z()), double(p.y() / p.z()));
-  if (!cam.distortion.none()) xy = cam.distortion.distort(xy);
-  const long u = std::lround(cam.fx * xy.x() + cam.cx), v = std::lround(cam.fy * xy.y() + cam.cy);
-  if (u < 0 || v < 0 || u >= cur.width || v >= cur.height) return -1;
-  return int(v * cur.width + u);
+void PlaneTracker::warpPixels(const NormalMap& cur, size_t count, const PlaneWarp& warp,
+                              const Pinhole& cam) {
+  // Four pixels at a time, in float, as the pose check's warp: one pixel at a time left the CPU
+  // waiting on each division and rounding.
+  using Eigen::Array4f;
+  const Eigen::Matrix3f& R = warp.R_key_cur;
+  const int* pixels = smooth_row_.data();
+  int* out = warped_row_.data();
+  size_t j = 0;
+  for (; j + 4 <= count; j += 4) {
+    Array4f X, Y, Z;
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector3f& q = cur.points[size_t(pixels[j + size_t(k)])];
+      X[k] = q.x(), Y[k] = q.y(), Z[k] = q.z();
+    }
+    const Array4f px = R(0, 0) * X + R(0, 1) * Y + R(0, 2) * Z;
+    const Array4f py = R(1, 0) * X + R(1, 1) * Y + R(1, 2) * Z;
+    const Array4f pz = R(2, 0) * X + R(2, 1) * Y + R(2, 2) * Z;
+    const Array4f iz = 1.f / pz.max(1e-6f);
+    Array4f pu, pv;
+    distortAndProject(cam, Array4f(px * iz), Array4f(py * iz), &pu, &pv);
+    for (int k = 0; k < 4; ++k)
+      out[j + size_t(k)] = nearestPixel(pz[k], pu[k], pv[k], cur.width, cur.height);
+  }
+  for (; j < count; ++j) {
+    const Eigen::Vector3f p = R * cur.points[size_t(pixels[j])];
+    const float iz = 1.f / std::max(p.z(), 1e-6f);
+    float pu, pv;
+    distortAndProject(cam, p.x() * iz, p.y() * iz, &pu, &pv);
+    out[j] = nearestPixel(p.z(), pu, pv, cur.width, cur.height);
+  }
 }
 
 void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const PlaneTrackingParams& p,
@@ -144,6 +168,8 @@ void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const Plane
   scratch_.resize(n);
   residual_.resize(n);
   kth_smallest_.reserve(n);
+  smooth_row_.resize(size_t(W));
+  warped_row_.resize(size_t(W));
   seeds_.resize(size_t(p.max_modes));
   counts_.assign(size_t(p.max_modes) + 1, 0);
   out->overlap_pixels = 0;
@@ -154,14 +180,23 @@ void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const Plane
   const int border = std::max(p.border, 1);
   int modes = 0;
   size_t overlap = 0;
+  const Pinhole cam(warp ? warp->map_camera : Camera{});
   for (int v = border; v < H - border; ++v) {
+    // The row's smooth pixels first (branch-free), so that the warp runs on those only, four at
+    // a time.
+    const size_t row = size_t(v) * size_t(W);
+    size_t count = 0;
     for (int u = border; u < W - border; ++u) {
-      const size_t i = size_t(v) * size_t(W) + size_t(u);
-      if (!cur.smooth[i]) continue;
+      smooth_row_[count] = int(row) + u;
+      count += cur.smooth[row + size_t(u)] != 0;
+    }
+    if (warp) warpPixels(cur, count, *warp, cam);
+    for (size_t j = 0; j < count; ++j) {
+      const size_t i = size_t(smooth_row_[j]);
       size_t k = i;
       Eigen::Vector3f nc = cur.normal[i];
       if (warp) {
-        const int warped = warpedKeyPixel(cur, i, *warp);
+        const int warped = warped_row_[j];
         if (warped < 0) continue;
         k = size_t(warped);
         nc = warp->R_key_cur * nc;

@@ -49,6 +49,8 @@ struct PlaneTrackingResult {
   std::vector<PlanePair> planes;  // modes with at least min_plane_pixels, largest first
 };
 
+struct Pinhole;  // lens_projection.hpp, private to the library
+
 class PlaneTracker {
  public:
   // key and cur must have the same size. Without a warp a pixel is compared with the same pixel
@@ -57,8 +59,9 @@ class PlaneTracker {
              PlaneTrackingResult* out, const PlaneWarp* warp = nullptr);
 
  private:
-  // The keyframe pixel that saw cur's pixel i's direction, or -1.
-  int warpedKeyPixel(const NormalMap& cur, size_t i, const PlaneWarp& warp) const;
+  // warped_row_[j] for the first `count` pixels of smooth_row_: the keyframe pixel that saw the
+  // direction of cur's pixel, or -1.
+  void warpPixels(const NormalMap& cur, size_t count, const PlaneWarp& warp, const Pinhole& cam);
   Eigen::Vector3f medianNormal(const NormalMap& map, const int* pixels, size_t count);
   // key_pixels[k] in the keyframe and cur_pixels[k] in the current frame are one point.
   PlanePair fittedPair(const NormalMap& key, const NormalMap& cur, int* key_pixels, int* cur_pixels,
@@ -72,6 +75,7 @@ class PlaneTracker {
   std::vector<float> scratch_, residual_;
   KthSmallest kth_smallest_;
   std::vector<int> histogram_;
+  std::vector<int> smooth_row_, warped_row_;  // track: one row's smooth pixels, their warps
 };
 
 }  // namespace nidevo
