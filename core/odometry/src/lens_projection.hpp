@@ -26,7 +26,8 @@ struct Pinhole {
 // Always inlined: as an out-of-line call the four-wide version returned its arrays through
 // memory (3 % of a frame).
 template <typename T>
-[[gnu::always_inline]] inline void distortAndProject(const Pinhole& c, const T& x, const T& y, T* u, T* v) {
+[[gnu::always_inline]] inline void distortAndProject(const Pinhole& c, const T& x, const T& y, T* u,
+                                                     T* v) {
   const T r2 = x * x + y * y;
   const T radial = 1.f + r2 * (c.k1 + r2 * (c.k2 + r2 * c.k3));
   const T xd = x * radial + 2.f * c.p1 * x * y + c.p2 * (r2 + 2.f * x * x);
