@@ -22,7 +22,8 @@ std::vector<std::pair<std::string, std::vector<float>>> arrays() {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> unit(0.f, 1.f);
   std::vector<std::pair<std::string, std::vector<float>>> out;
-  for (size_t n : {size_t(1), size_t(100), size_t(4096), size_t(4097), size_t(76800)}) {
+  for (size_t n :
+       {size_t(1), size_t(100), size_t(1024), size_t(1025), size_t(4097), size_t(76800)}) {
     std::vector<float> uniform(n), sorted(n), ties(n), outliers(n), with_inf(n);
     for (size_t i = 0; i < n; ++i) {
       uniform[i] = unit(rng);

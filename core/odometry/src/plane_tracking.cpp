@@ -75,16 +75,20 @@ PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, i
     key_pixels[kept] = key_pixels[k];
     cur_pixels[kept++] = cur_pixels[k];
   };
+  // The kept pixels' offsets -n.p go to scratch_, so that the histogram and the offset test
+  // below do not gather the points again.
   for (size_t k = 0; k < count; ++k) {
-    if (key.normal[size_t(key_pixels[k])].dot(axis) >= p.fit_cone_dot) keep(k);
+    const size_t i = size_t(key_pixels[k]);
+    if (key.normal[i].dot(axis) >= p.fit_cone_dot) {
+      scratch_[kept] = -axis.dot(key.points[i]);
+      keep(k);
+    }
   }
   constexpr float kBin = 0.02f;  // metres
   constexpr int kBins = 1024;
   histogram_.assign(kBins, 0);
-  auto bin_of = [&](int pixel) {
-    return std::clamp(int(std::floor(-axis.dot(key.points[size_t(pixel)]) / kBin)), 0, kBins - 1);
-  };
-  for (size_t k = 0; k < kept; ++k) ++histogram_[size_t(bin_of(key_pixels[k]))];
+  for (size_t k = 0; k < kept; ++k)
+    ++histogram_[size_t(std::clamp(int(std::floor(scratch_[k] / kBin)), 0, kBins - 1))];
   int peak = 1, best = -1;  // the densest window of three bins
   for (int b = 1; b + 1 < kBins; ++b) {
     const int w = histogram_[size_t(b - 1)] + histogram_[size_t(b)] + histogram_[size_t(b + 1)];
@@ -94,7 +98,7 @@ PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, i
   count = kept;
   kept = 0;
   for (size_t k = 0; k < count; ++k) {
-    if (std::abs(-axis.dot(key.points[size_t(key_pixels[k])]) - d0) < tolerance) keep(k);
+    if (std::abs(scratch_[k] - d0) < tolerance) keep(k);
   }
   count = kept;
   if (count < 3) return {axis, axis, 0};
