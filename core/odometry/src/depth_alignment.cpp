@@ -137,27 +137,17 @@ void DepthAligner::warp(const SurfaceSample& ref, const AlignmentTarget& cur, co
       const Vector3f& q = ref.point[i + size_t(k)];
       X[k] = q.x(), Y[k] = q.y(), Z[k] = q.z();
     }
-    const Array4f px = R(0, 0) * X + R(0, 1) * Y + R(0, 2) * Z + t.x();
-    const Array4f py = R(1, 0) * X + R(1, 1) * Y + R(1, 2) * Z + t.y();
-    const Array4f pz = R(2, 0) * X + R(2, 1) * Y + R(2, 2) * Z + t.z();
-    const Array4f iz = 1.f / pz.max(1e-6f);
-    Array4f u, v;
-    distortAndProject(cam, Array4f(px * iz), Array4f(py * iz), &u, &v);
+    const Warped<Array4f> w = warpPoint(R, t, X, Y, Z, cam);
     for (int k = 0; k < 4; ++k) {
-      warped_[i + size_t(k)] = {Vector3f(px[k], py[k], pz[k]), u[k], v[k]};
-      pixel_[i + size_t(k)] = nearestPixel(pz[k], u[k], v[k], cur.width, cur.height);
+      warped_[i + size_t(k)] = {Vector3f(w.x[k], w.y[k], w.z[k]), w.u[k], w.v[k]};
+      pixel_[i + size_t(k)] = nearestPixel(w.z[k], w.u[k], w.v[k], cur.width, cur.height);
     }
   }
   for (; i < n; ++i) {
-    const float X = ref.point[i].x(), Y = ref.point[i].y(), Z = ref.point[i].z();
-    const float px = R(0, 0) * X + R(0, 1) * Y + R(0, 2) * Z + t.x();
-    const float py = R(1, 0) * X + R(1, 1) * Y + R(1, 2) * Z + t.y();
-    const float pz = R(2, 0) * X + R(2, 1) * Y + R(2, 2) * Z + t.z();
-    const float iz = 1.f / std::max(pz, 1e-6f);
-    float u, v;
-    distortAndProject(cam, px * iz, py * iz, &u, &v);
-    warped_[i] = {Vector3f(px, py, pz), u, v};
-    pixel_[i] = nearestPixel(pz, u, v, cur.width, cur.height);
+    const Vector3f& q = ref.point[i];
+    const Warped<float> w = warpPoint(R, t, q.x(), q.y(), q.z(), cam);
+    warped_[i] = {Vector3f(w.x, w.y, w.z), w.u, w.v};
+    pixel_[i] = nearestPixel(w.z, w.u, w.v, cur.width, cur.height);
   }
 }
 

@@ -1,6 +1,9 @@
 #pragma once
 // Projection of camera-frame points to map pixels in float, one point or four at a time (private
 // to the odometry library: the pose check's warp and the plane association share it).
+#include <Eigen/Core>
+#include <algorithm>
+
 #include "nidevo/odometry/camera.hpp"
 
 namespace nidevo {
@@ -34,6 +37,28 @@ template <typename T>
   const T yd = y * radial + c.p1 * (r2 + 2.f * y * y) + 2.f * c.p2 * x * y;
   *u = c.fx * xd + c.cx;
   *v = c.fy * yd + c.cy;
+}
+
+// Points (coordinates X, Y, Z) moved by R and t, and their image positions (u, v). T is float or
+// Eigen::Array4f, with the same float operations in the same order, as distortAndProject.
+template <typename T>
+struct Warped {
+  T x, y, z, u, v;
+};
+inline float atLeast(float a, float b) { return std::max(a, b); }
+inline Eigen::Array4f atLeast(const Eigen::Array4f& a, float b) { return a.max(b); }
+
+template <typename T>
+[[gnu::always_inline]] inline Warped<T> warpPoint(const Eigen::Matrix3f& R,
+                                                  const Eigen::Vector3f& t, const T& X, const T& Y,
+                                                  const T& Z, const Pinhole& cam) {
+  Warped<T> w;
+  w.x = R(0, 0) * X + R(0, 1) * Y + R(0, 2) * Z + t.x();
+  w.y = R(1, 0) * X + R(1, 1) * Y + R(1, 2) * Z + t.y();
+  w.z = R(2, 0) * X + R(2, 1) * Y + R(2, 2) * Z + t.z();
+  const T iz = 1.f / atLeast(w.z, 1e-6f);
+  distortAndProject(cam, T(w.x * iz), T(w.y * iz), &w.u, &w.v);
+  return w;
 }
 
 // Pixel of a point at depth z and image position (u, v), or -1 when it is behind the camera or

@@ -129,10 +129,11 @@ PlanePair PlaneTracker::fittedPair(const NormalMap& key, const NormalMap& cur, i
 
 void PlaneTracker::warpPixels(const NormalMap& cur, size_t count, const PlaneWarp& warp,
                               const Pinhole& cam) {
-  // Four pixels at a time, in float, as the pose check's warp: one pixel at a time left the CPU
-  // waiting on each division and rounding.
+  // Four pixels at a time, in float, as the pose check's warp; the predicted motion is a
+  // rotation only.
   using Eigen::Array4f;
   const Eigen::Matrix3f& R = warp.R_key_cur;
+  const Eigen::Vector3f no_shift = Eigen::Vector3f::Zero();
   const int* pixels = smooth_row_.data();
   int* out = warped_row_.data();
   size_t j = 0;
@@ -142,21 +143,14 @@ void PlaneTracker::warpPixels(const NormalMap& cur, size_t count, const PlaneWar
       const Eigen::Vector3f& q = cur.points[size_t(pixels[j + size_t(k)])];
       X[k] = q.x(), Y[k] = q.y(), Z[k] = q.z();
     }
-    const Array4f px = R(0, 0) * X + R(0, 1) * Y + R(0, 2) * Z;
-    const Array4f py = R(1, 0) * X + R(1, 1) * Y + R(1, 2) * Z;
-    const Array4f pz = R(2, 0) * X + R(2, 1) * Y + R(2, 2) * Z;
-    const Array4f iz = 1.f / pz.max(1e-6f);
-    Array4f pu, pv;
-    distortAndProject(cam, Array4f(px * iz), Array4f(py * iz), &pu, &pv);
+    const Warped<Array4f> w = warpPoint(R, no_shift, X, Y, Z, cam);
     for (int k = 0; k < 4; ++k)
-      out[j + size_t(k)] = nearestPixel(pz[k], pu[k], pv[k], cur.width, cur.height);
+      out[j + size_t(k)] = nearestPixel(w.z[k], w.u[k], w.v[k], cur.width, cur.height);
   }
   for (; j < count; ++j) {
-    const Eigen::Vector3f p = R * cur.points[size_t(pixels[j])];
-    const float iz = 1.f / std::max(p.z(), 1e-6f);
-    float pu, pv;
-    distortAndProject(cam, p.x() * iz, p.y() * iz, &pu, &pv);
-    out[j] = nearestPixel(p.z(), pu, pv, cur.width, cur.height);
+    const Eigen::Vector3f& q = cur.points[size_t(pixels[j])];
+    const Warped<float> w = warpPoint(R, no_shift, q.x(), q.y(), q.z(), cam);
+    out[j] = nearestPixel(w.z, w.u, w.v, cur.width, cur.height);
   }
 }
 
