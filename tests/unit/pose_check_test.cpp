@@ -79,6 +79,23 @@ TEST_F(ChooseHypothesisTest, AnUntrustedPoseIsKeptWhenNothingTrustedPasses) {
                                  HypothesisOrigin{true, true, true}, config_));
 }
 
+TEST_F(ChooseHypothesisTest, AFarPoseThatFitsFewerPointsLosesToTheNearOneEvenIfThatFails) {
+  // The method's KCC peak jumped a tile along the floor; the grey values there happen to agree
+  // (it passes, with a score lifted by its NCC), the prediction's do not (it fails). The
+  // prediction still fits more of the surface: the jump rests on grey values alone.
+  AlignmentResult near = passing(shifted(0.005), 950, 3);
+  near.ncc = 0.1;
+  AlignmentResult far = passing(shifted(period_), 900, 3);
+  ASSERT_FALSE(judgeAlignment(near, config_).passed);
+  ASSERT_GT(alignmentScore(far, config_), alignmentScore(near, config_));
+  const HypothesisChoice c = choose(far, near);
+  EXPECT_EQ(c.index, 1);
+  EXPECT_TRUE(c.overruled);
+  // Fitting more points than the near pose, the far one stays (the test above); so does a far
+  // pose the depth fixed in every direction.
+  EXPECT_EQ(choose(passing(shifted(period_), 900, 6), near).index, 0);
+}
+
 TEST_F(ChooseHypothesisTest, FitsWithinATieAtDistantPosesGoToThePoseNearerThePrediction) {
   const HypothesisChoice c =
       choose(passing(shifted(period_), 1000, 6), passing(shifted(0.005), 995, 6));

@@ -114,7 +114,21 @@ HypothesisChoice chooseHypothesis(const AlignmentResult* results, const CheckVer
     if (alternative < 0 || alignmentScore(results[h], c) > alignmentScore(results[alternative], c))
       alternative = h;
   }
-  if (alternative >= 0) choice = {alternative, true, true};
+  if (alternative >= 0) return {alternative, true, true};
+  // No trusted alternative: a pose far from the prediction that fits no more of the surface than
+  // one near it owes its lead to grey values alone, along a direction the geometry leaves free
+  // (a KCC peak on the wrong texture); the pose near the prediction is the better guess.
+  if (!farApart(results[chosen].T_ref_cur, T_ref_predicted, c)) return choice;
+  int nearest = -1;
+  for (int h = 0; h < count; ++h) {
+    if (h == chosen || farApart(results[h].T_ref_cur, T_ref_predicted, c) ||
+        results[h].inliers < results[chosen].inliers)
+      continue;
+    if (nearest < 0 || priorDistance(results[h].T_ref_cur, T_ref_predicted, c) <
+                           priorDistance(results[nearest].T_ref_cur, T_ref_predicted, c))
+      nearest = h;
+  }
+  if (nearest >= 0) choice = {nearest, true, true};
   return choice;
 }
 

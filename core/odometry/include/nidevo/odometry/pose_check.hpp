@@ -68,11 +68,13 @@ bool withinPredictionTrust(const Eigen::Isometry3d& a, const Eigen::Isometry3d& 
 // failing one; among passing ones the best fit wins, except that fits within hypothesis_tie at
 // poses far apart are a tie won by the pose nearer the prediction, and a pose that cannot be
 // trusted (directionsTrusted) loses to a passing one that can. Both of those make the frame
-// ambiguous: the data alone could not decide.
+// ambiguous: the data alone could not decide. Failing that, an untrusted pose far from the
+// prediction loses to a hypothesis near it that fits at least as many surface points, passed or
+// not (the lead was the grey values' along a free direction); the frame is overruled.
 struct HypothesisChoice {
   int index = 0;
   bool ambiguous = false;
-  bool overruled = false;  // the best fit could not be trusted, and a trusted one was taken
+  bool overruled = false;  // the best fit could not be trusted, and another was taken
 };
 HypothesisChoice chooseHypothesis(const AlignmentResult* results, const CheckVerdict* verdicts,
                                   const HypothesisOrigin* origins, int count,
