@@ -119,11 +119,13 @@ TEST(Odometry, RecoversAKnownRotationBetweenTwoFrames) {
 
 // Frames 0, 1, 2 turned by 0, 3 and 6 deg about a tilted axis, the keyframe staying at frame 0:
 // frame 2 is matched against a keyframe 6 deg away, the motion model predicting the turn.
-PoseEstimate turnSixDegrees(bool predicted_association, double* error_deg) {
+PoseEstimate turnSixDegrees(bool predicted_association, double* error_deg,
+                            int plane_pixel_step = OdometryConfig{}.plane_pixel_step) {
   const synth::SyntheticSequence seq(officeConfig(1));
   const Eigen::Isometry3d T0 = seq.groundTruth(0);
   OdometryConfig config;
   config.predicted_association = predicted_association;
+  config.plane_pixel_step = plane_pixel_step;
   config.align_iterations = 0;  // the method's own rotation, unrefined by the pose check
   Odometry odometry(seq.config().camera, config);
   const Eigen::Vector3d axis = Eigen::Vector3d(0.2, 1, 0.1).normalized();
@@ -232,6 +234,18 @@ TEST(Odometry, AllBlackImageDoesNotCrashOrProduceNaN) {
   }
 }
 
+TEST(Odometry, PlaneTrackingOnEveryOtherPixelFindsTheSamePlanesAndRotation) {
+  double all_error = 0, sparse_error = 0;
+  const PoseEstimate all = turnSixDegrees(true, &all_error, 1);
+  const PoseEstimate sparse = turnSixDegrees(true, &sparse_error, 2);
+  EXPECT_EQ(sparse.rotation_source, RotationSource::kPlanes);
+  EXPECT_EQ(sparse.planes_used, all.planes_used);
+  EXPECT_LT(all_error, 0.05);
+  EXPECT_LT(sparse_error, 0.05);
+  // The overlap is counted over the whole map, scaled up from the pixels read.
+  EXPECT_NEAR(sparse.overlap_pixels, all.overlap_pixels, 0.05 * all.overlap_pixels);
+}
+
 TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
   const Camera cam = *cameraPreset("icl");
   Odometry odometry(cam, OdometryConfig{});
@@ -255,6 +269,9 @@ TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
   bad = OdometryConfig{};
   bad.align_converged_m = -1e-4f;
   EXPECT_NE(bad.validate().find("align_converged_m"), std::string::npos);
+  bad = OdometryConfig{};
+  bad.plane_pixel_step = 0;
+  EXPECT_NE(bad.validate().find("plane_pixel_step"), std::string::npos);
   bad = OdometryConfig{};
   bad.projection_width = 17;
   EXPECT_THROW(Odometry(cam, bad), std::invalid_argument);

@@ -30,6 +30,8 @@ ABSL_FLAG(std::string, plane_normal, nidevo::toString(kDefaults.plane_normal),
           "Plane normal per frame: median (paper) or fit (least-squares plane through the points)");
 ABSL_FLAG(double, min_plane_fraction, shortestDecimal(kDefaults.min_plane_fraction),
           "Smallest plane, as a fraction of the normal map's pixels");
+ABSL_FLAG(int, plane_pixel_step, kDefaults.plane_pixel_step,
+          "Plane tracking reads every n-th normal-map pixel in u and v (1: all, as the paper)");
 ABSL_FLAG(int, projection_width, kDefaults.projection_width, "Orthographic projection width");
 ABSL_FLAG(int, projection_height, kDefaults.projection_height, "Orthographic projection height");
 ABSL_FLAG(int, projection_stride, kDefaults.projection_stride,
@@ -107,6 +109,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.rotation_method = parseRotationMethod(absl::GetFlag(FLAGS_rotation_method));
   c.plane_normal = nidevo::parsePlaneNormalEstimator(absl::GetFlag(FLAGS_plane_normal));
   c.min_plane_fraction = float(absl::GetFlag(FLAGS_min_plane_fraction));
+  c.plane_pixel_step = absl::GetFlag(FLAGS_plane_pixel_step);
   c.projection_width = absl::GetFlag(FLAGS_projection_width);
   c.projection_height = absl::GetFlag(FLAGS_projection_height);
   c.projection_stride = absl::GetFlag(FLAGS_projection_stride);

@@ -28,6 +28,7 @@ std::string OdometryConfig::validate() const {
   if (!in(crease_dot, 0, 1)) return "crease_dot must be in [0, 1]";
   if (!in(mode_dot, 0, 1)) return "mode_dot must be in [0, 1]";
   if (!in(min_plane_fraction, 1e-4, 1)) return "min_plane_fraction must be in [1e-4, 1]";
+  if (plane_pixel_step < 1 || plane_pixel_step > 8) return "plane_pixel_step must be in 1..8";
   if (!in(parallel_dot, 0, 1)) return "parallel_dot must be in [0, 1]";
   if (!in(plane_unchanged_tolerance, 0, 0.5))
     return "plane_unchanged_tolerance must be in [0, 0.5]";
@@ -103,7 +104,10 @@ PlaneTrackingParams planeTrackingParams(const OdometryConfig& c, int normal_map_
   p.border = c.border_px / c.normal_stride;
   p.overlap_dot = c.overlap_dot;
   p.mode_dot = c.mode_dot;
-  p.min_plane_pixels = std::max(1, int(c.min_plane_fraction * float(normal_map_pixels)));
+  p.pixel_step = c.plane_pixel_step;
+  // Counted over the pixels read, one in pixel_step^2.
+  p.min_plane_pixels = std::max(
+      1, int(c.min_plane_fraction * float(normal_map_pixels) / float(p.pixel_step * p.pixel_step)));
   p.max_modes = c.max_modes;
   p.estimator = c.plane_normal;
   p.fit_cone_dot = c.plane_fit_cone_dot;

@@ -179,12 +179,13 @@ void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const Plane
   int modes = 0;
   size_t overlap = 0;
   const Pinhole cam(warp ? warp->map_camera : Camera{});
-  for (int v = border; v < H - border; ++v) {
+  const int step = std::max(p.pixel_step, 1);
+  for (int v = border; v < H - border; v += step) {
     // The row's smooth pixels first (branch-free), so that the warp runs on those only, four at
     // a time.
     const size_t row = size_t(v) * size_t(W);
     size_t count = 0;
-    for (int u = border; u < W - border; ++u) {
+    for (int u = border; u < W - border; u += step) {
       smooth_row_[count] = int(row) + u;
       count += cur.smooth[row + size_t(u)] != 0;
     }
@@ -215,6 +216,7 @@ void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const Plane
       ++counts_[size_t(m) + 1];
     }
   }
+  out->overlap_pixels *= step * step;
   // Group the pixels by mode (counting sort): mode m owns members_[counts_[m] .. counts_[m+1]).
   for (int m = 0; m < modes; ++m) counts_[size_t(m) + 1] += counts_[size_t(m)];
   offsets_.assign(counts_.begin(), counts_.end());

@@ -33,6 +33,9 @@ struct OdometryConfig {
   float crease_dot = 0.999f;         // 4-neighbour normals less aligned than this: a crease
   float mode_dot = 0.95f;            // a pixel joins a mode within this
   float min_plane_fraction = 0.05f;  // pixels of a mode, as a fraction of the normal map
+  // Plane tracking reads every n-th normal-map pixel in u and v: a plane of min_plane_fraction
+  // still has hundreds of pixels, and stage 2 costs 1/n^2 (the pose check reads the whole map).
+  int plane_pixel_step = 2;
   float parallel_dot = 0.97f;        // two plane normals closer than this count as parallel
   int max_modes = 16;
   RotationMethod rotation_method = RotationMethod::kClosedForm;         // paper: kBestPair

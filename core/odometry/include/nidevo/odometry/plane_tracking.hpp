@@ -33,6 +33,7 @@ struct PlaneTrackingParams {
   int max_modes;
   PlaneNormalEstimator estimator;
   float fit_cone_dot;  // kPlaneFit: members within this of the mode's median normal
+  int pixel_step;      // every n-th pixel of the current map in u and v
 };
 
 // The predicted rotation between the frames, so that a pixel of the current frame is compared
@@ -45,8 +46,9 @@ struct PlaneWarp {
 };
 
 struct PlaneTrackingResult {
-  int overlap_pixels = 0;         // pixels co-planar in both frames
-  std::vector<PlanePair> planes;  // modes with at least min_plane_pixels, largest first
+  int overlap_pixels = 0;         // pixels co-planar in both frames (of the map: scaled up from
+                                  // those read)
+  std::vector<PlanePair> planes;  // modes with at least min_plane_pixels read, largest first
 };
 
 struct Pinhole;  // lens_projection.hpp, private to the library
