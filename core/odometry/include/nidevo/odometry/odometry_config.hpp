@@ -36,7 +36,7 @@ struct OdometryConfig {
   // Plane tracking reads every n-th normal-map pixel in u and v: a plane of min_plane_fraction
   // still has hundreds of pixels, and stage 2 costs 1/n^2 (the pose check reads the whole map).
   int plane_pixel_step = 2;
-  float parallel_dot = 0.97f;        // two plane normals closer than this count as parallel
+  float parallel_dot = 0.97f;  // two plane normals closer than this count as parallel
   int max_modes = 16;
   RotationMethod rotation_method = RotationMethod::kClosedForm;         // paper: kBestPair
   PlaneNormalEstimator plane_normal = PlaneNormalEstimator::kPlaneFit;  // paper: kMedian
