@@ -266,6 +266,52 @@ TEST_F(DepthAlignmentTest, WeakDirectionsConfirmTheTruePoseAndNotAPlantedOffset)
   EXPECT_EQ(aligner_.align(sample_, cur.map, cur.intensity, map_camera, truth, p).confirmed, 0);
 }
 
+// The same planted offsets, every direction weak: the further pass steps along them and finds the
+// true pose, yet leaves them unconfirmed, since it moved the pose; asked not to, it moves nothing.
+TEST_F(DepthAlignmentTest, RefiningAlongWeakDirectionsUndoesAPlantedOffsetButConfirmsNothing) {
+  const Isometry3d truth = motion(0.02, {0.2, 1, 0}, {0.03, -0.01, 0.02});
+  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
+  AlignmentTarget target;
+  buildAlignmentTarget(cur.map, cur.intensity, &target);
+  AlignmentParams p = alignmentParams(config_);
+  p.min_eigenvalue = 1e3f;
+  p.confirm_eigenvalue = 1e-6f;
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  for (const Eigen::Vector3d& offset : {Eigen::Vector3d(0.03, 0, 0), Eigen::Vector3d(0, 0.02, 0)}) {
+    const Isometry3d planted = truth * motion(0, {0, 1, 0}, offset);
+    const AlignmentResult held = aligner_.align(sample_, target, map_camera, planted, p);
+    ASSERT_TRUE(held.T_ref_cur.isApprox(planted));
+    p.step_eigenvalue = 0;
+    EXPECT_TRUE(aligner_.refineAlongWeakDirections(sample_, target, map_camera, held, p)
+                    .T_ref_cur.isApprox(planted))
+        << "off: " << offset.transpose();
+    p.step_eigenvalue = 1e-6f;
+    const AlignmentResult refined =
+        aligner_.refineAlongWeakDirections(sample_, target, map_camera, held, p);
+    const Isometry3d error = truth.inverse() * refined.T_ref_cur;
+    EXPECT_LT(error.translation().norm(), 0.005) << offset.transpose();
+    EXPECT_LT(angleDeg(error), 0.2) << offset.transpose();
+    EXPECT_GT(refined.ncc, held.ncc);
+    EXPECT_EQ(refined.constrained, 0);
+    EXPECT_LT(refined.confirmed, 6) << offset.transpose();
+  }
+}
+
+// A pose the check already passes with every direction fixed is left as it is.
+TEST_F(DepthAlignmentTest, RefiningAlongWeakDirectionsLeavesAFullyConstrainedPose) {
+  const Isometry3d truth = motion(0.02, {0.2, 1, 0}, {0.03, -0.01, 0.02});
+  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
+  AlignmentTarget target;
+  buildAlignmentTarget(cur.map, cur.intensity, &target);
+  const AlignmentParams p = alignmentParams(config_);
+  ASSERT_GT(p.step_eigenvalue, 0.f);
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  const AlignmentResult a = aligner_.align(sample_, target, map_camera, truth, p);
+  ASSERT_EQ(a.constrained, 6);
+  EXPECT_TRUE(aligner_.refineAlongWeakDirections(sample_, target, map_camera, a, p)
+                  .T_ref_cur.isApprox(a.T_ref_cur));
+}
+
 TEST(AlignmentTargetTest, HoldsEachPixelsPlaneAndGreyValue) {
   NormalMap map;
   map.resize(5, 4);

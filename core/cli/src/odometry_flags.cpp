@@ -68,6 +68,9 @@ ABSL_FLAG(double, align_min_eigenvalue, shortestDecimal(kDefaults.align_min_eige
           "Directions the geometry constrains less than this keep the hypothesis' value");
 ABSL_FLAG(double, align_photometric_weight, shortestDecimal(kDefaults.align_photometric_weight),
           "Grey-value residuals in the refinement, metres per grey unit (0: depth only)");
+ABSL_FLAG(double, align_step_eigenvalue, shortestDecimal(kDefaults.align_step_eigenvalue),
+          "A DEGRADED or LOST pose is refined once more along weaker directions of at least "
+          "this eigenvalue; the status stays (0: never)");
 ABSL_FLAG(double, align_confirm_eigenvalue, shortestDecimal(kDefaults.align_confirm_eigenvalue),
           "A weaker direction of at least this eigenvalue confirms the hypothesis when its step "
           "stays within --align_confirm_step (0: never)");
@@ -127,6 +130,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.align_iterations = absl::GetFlag(FLAGS_align_iterations);
   c.align_converged_m = float(absl::GetFlag(FLAGS_align_converged));
   c.align_min_eigenvalue = float(absl::GetFlag(FLAGS_align_min_eigenvalue));
+  c.align_step_eigenvalue = float(absl::GetFlag(FLAGS_align_step_eigenvalue));
   c.align_photometric_weight = float(absl::GetFlag(FLAGS_align_photometric_weight));
   c.align_polish_iterations = absl::GetFlag(FLAGS_align_polish_iterations);
   c.align_confirm_eigenvalue = float(absl::GetFlag(FLAGS_align_confirm_eigenvalue));

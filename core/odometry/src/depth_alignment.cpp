@@ -88,6 +88,14 @@ bool greyAndGradient(const AlignmentTarget& cur, const Pinhole& cam, const Vecto
   return true;
 }
 
+// Of the sample's points, at least 0.1 m: rotation columns are divided by it, so that rotation
+// and translation directions have comparable eigenvalues.
+double meanDepth(const SurfaceSample& ref) {
+  double sum = 0;
+  for (const auto& p : ref.point) sum += p.z();
+  return ref.size() ? std::max(0.1, sum / double(ref.size())) : 1.0;
+}
+
 // Huber weight of residual r at scale k, so that outliers pull little.
 double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
 
@@ -244,7 +252,8 @@ int constrainedDirections(const Eigen::Matrix<double, 6, 6>& H, double min_eigen
 void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& cur,
                                const Camera& map_camera, const AlignmentParams& prm,
                                double depth_scale, bool photometric, int iterations,
-                               Isometry3d* T_cur_ref_io, AlignmentResult* result) {
+                               Isometry3d* T_cur_ref_io, Eigen::Matrix<double, 6, 1>* weak_moved,
+                               AlignmentResult* result) {
   Isometry3d& T_cur_ref = *T_cur_ref_io;
   AlignmentResult& res = *result;
   for (int it = 0; it < iterations; ++it) {
@@ -268,10 +277,18 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
     for (int k = 0; k < 6; ++k) {
       const double lambda = eig.eigenvalues()(k);
       if (lambda < prm.min_eigenvalue) {
+        const auto vk = eig.eigenvectors().col(k);
+        double moved = vk.dot(b) / lambda;  // would-be step from here
+        if (weak_moved && lambda >= prm.step_eigenvalue) {
+          // Stepped along: what counts is how far the steps took the hypothesis.
+          xi += moved * vk;
+          *weak_moved += moved * vk;
+          moved = vk.dot(*weak_moved);
+        }
         if (prm.confirm_eigenvalue > 0 && lambda >= prm.confirm_eigenvalue &&
-            std::abs(eig.eigenvectors().col(k).dot(b) / lambda) <= prm.confirm_step_m)
+            std::abs(moved) <= prm.confirm_step_m)
           ++res.confirmed;
-        const bool rotational = eig.eigenvectors().col(k).head<3>().squaredNorm() > 0.5;
+        const bool rotational = vk.head<3>().squaredNorm() > 0.5;
         (rotational ? res.free_rotation : res.free_translation) = true;
         continue;
       }
@@ -309,24 +326,41 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTar
   Isometry3d T_cur_ref = T_ref_cur.inverse();
   gain_ = 1.0;
   bias_ = 0.0;
-  // Rotation columns divided by the mean depth, so that rotation and translation directions
-  // have comparable eigenvalues.
-  double depth_scale = 0;
-  for (const auto& p : ref.point) depth_scale += p.z();
-  depth_scale = ref.size() ? std::max(0.1, depth_scale / double(ref.size())) : 1.0;
+  const double depth_scale = meanDepth(ref);
   // Depth alone first (its basin is wider than the grey values'); then depth and grey values
   // together: they fix what geometry leaves free, and where depth fixed everything they still
   // polish the pose in a few steps (a real sensor's depth is biased and noisy).
-  gaussNewton(ref, cur, map_camera, prm, depth_scale, false, prm.iterations, &T_cur_ref, &res);
+  gaussNewton(ref, cur, map_camera, prm, depth_scale, false, prm.iterations, &T_cur_ref, nullptr,
+              &res);
   if (prm.photometric_weight > 0) {
     const int steps =
         res.constrained < 6 ? prm.iterations : std::min(prm.polish_iterations, prm.iterations);
     if (steps > 0)
-      gaussNewton(ref, cur, map_camera, prm, depth_scale, true, steps, &T_cur_ref, &res);
+      gaussNewton(ref, cur, map_camera, prm, depth_scale, true, steps, &T_cur_ref, nullptr, &res);
   }
   evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, false, false, &res);
   res.T_ref_cur = T_cur_ref.inverse();
   return res;
+}
+
+AlignmentResult DepthAligner::refineAlongWeakDirections(const SurfaceSample& ref,
+                                                        const AlignmentTarget& cur,
+                                                        const Camera& map_camera,
+                                                        const AlignmentResult& from,
+                                                        const AlignmentParams& prm) {
+  if (prm.step_eigenvalue <= 0 || prm.photometric_weight <= 0 || from.constrained >= 6) return from;
+  Isometry3d T_cur_ref = from.T_ref_cur.inverse();
+  gain_ = 1.0;
+  bias_ = 0.0;
+  const double depth_scale = meanDepth(ref);
+  AlignmentResult weak = from;
+  Eigen::Matrix<double, 6, 1> weak_moved = Eigen::Matrix<double, 6, 1>::Zero();
+  gaussNewton(ref, cur, map_camera, prm, depth_scale, true, prm.iterations, &T_cur_ref, &weak_moved,
+              &weak);
+  evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, false, false, &weak);
+  if (!(weak.ncc > from.ncc && weak.inliers >= from.inliers)) return from;
+  weak.T_ref_cur = T_cur_ref.inverse();
+  return weak;
 }
 
 }  // namespace nidevo

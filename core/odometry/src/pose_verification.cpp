@@ -128,7 +128,16 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   }
   if (out->state == TrackingState::kDegraded && ++v.degraded_frames > config_.max_degraded_frames)
     out->state = TrackingState::kLost;
-  if (out->state == TrackingState::kOk) v.degraded_frames = 0;
+  if (out->state == TrackingState::kOk) {
+    v.degraded_frames = 0;
+  } else if (best.overlapFraction() >= config_.verify_min_overlap) {
+    // A pose already reported unverified may still be bettered along what it leaves free: the
+    // status stays, the pose and so the next prediction improve.
+    out->T_world_cam =
+        v.T_out_ref *
+        v.aligner.refineAlongWeakDirections(v.reference, v.target, v.map_camera, best, v.params)
+            .T_ref_cur;
+  }
   // Only a pose the data fixed measures the motion; one that took the prediction's value would
   // confirm the prediction by itself.
   const bool verified = out->state == TrackingState::kOk && !out->verification.predicted_directions;

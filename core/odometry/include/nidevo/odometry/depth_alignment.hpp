@@ -66,6 +66,10 @@ struct AlignmentParams {
   float confirm_step_m = 0.005f;
   float min_eigenvalue = 0.004f;  // normalised Hessian eigenvalue below which a direction is left
                                   // to the hypothesis
+  // refineAlongWeakDirections steps along weak directions of at least this eigenvalue too; they
+  // stay unconstrained, confirmed only when the steps moved the pose by at most confirm_step_m
+  // along them. 0: off (align itself never moves a weak direction).
+  float step_eigenvalue = 0.0f;
 };
 
 struct AlignmentResult {
@@ -101,6 +105,14 @@ class DepthAligner {
   AlignmentResult align(const SurfaceSample& ref, const NormalMap& cur,
                         const std::vector<float>& cur_intensity, const Camera& map_camera,
                         const Eigen::Isometry3d& T_ref_cur, const AlignmentParams& params);
+  // A further joint pass from `from` (a result of align) that also steps along the directions
+  // too weak to constrain, with eigenvalues of at least params.step_eigenvalue: grey values too
+  // weak to verify a direction may still point the right way along it (a fast turn over one
+  // plane). Returns `from` unless the grey values then agree better without losing surface
+  // points; weak directions stay unverified.
+  AlignmentResult refineAlongWeakDirections(const SurfaceSample& ref, const AlignmentTarget& cur,
+                                            const Camera& map_camera, const AlignmentResult& from,
+                                            const AlignmentParams& params);
   // Room for samples of up to `points` points, so that steady state never allocates.
   void reserve(size_t points);
 
@@ -114,7 +126,8 @@ class DepthAligner {
   // Up to `iterations` steps from *T_cur_ref, updated in place.
   void gaussNewton(const SurfaceSample& ref, const AlignmentTarget& cur, const Camera& map_camera,
                    const AlignmentParams& params, double depth_scale, bool photometric,
-                   int iterations, Eigen::Isometry3d* T_cur_ref, AlignmentResult* result);
+                   int iterations, Eigen::Isometry3d* T_cur_ref,
+                   Eigen::Matrix<double, 6, 1>* weak_moved, AlignmentResult* result);
   // J^T W J and J^T W r, of one kind of residual.
   struct NormalEquations {
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();

@@ -89,6 +89,10 @@ struct OdometryConfig {
   float align_inlier_per_m = 0.01f;
   float align_normal_dot = 0.8f;
   float align_min_eigenvalue = 0.004f;  // weaker directions keep the hypothesis' value
+  // A frame reported DEGRADED or LOST is refined once more along the weak directions of at
+  // least this eigenvalue (grey values too weak to verify them may still point the right way);
+  // the status stays. 0: never. README "The pose check" measures it.
+  float align_step_eigenvalue = 0.001f;
   // A weaker direction, of at least this eigenvalue, whose would-be step stays within
   // align_confirm_step_m (metres at the mean depth) confirms the hypothesis' value there, and
   // counts as fixed for OK (0: never; README "Accuracy" measures the pair).
