@@ -108,8 +108,8 @@ class DepthAligner {
   // A further joint pass from `from` (a result of align) that also steps along the directions
   // too weak to constrain, with eigenvalues of at least params.step_eigenvalue: grey values too
   // weak to verify a direction may still point the right way along it (a fast turn over one
-  // plane). Returns `from` unless the grey values then agree better without losing surface
-  // points; weak directions stay unverified.
+  // plane). Returns `from` unless the grey values then agree better while the geometry does not
+  // object (no fewer inliers, no larger surface residual); weak directions stay unverified.
   AlignmentResult refineAlongWeakDirections(const SurfaceSample& ref, const AlignmentTarget& cur,
                                             const Camera& map_camera, const AlignmentResult& from,
                                             const AlignmentParams& params);
