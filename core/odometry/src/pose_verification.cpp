@@ -132,11 +132,13 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     v.degraded_frames = 0;
   } else if (best.overlapFraction() >= config_.verify_min_overlap) {
     // A pose already reported unverified may still be bettered along what it leaves free: the
-    // status stays, the pose and so the next prediction improve.
-    out->T_world_cam =
-        v.T_out_ref *
-        v.aligner.refineAlongWeakDirections(v.reference, v.target, v.map_camera, best, v.params)
-            .T_ref_cur;
+    // status stays, the pose and so the next prediction improve, and the figures are the pose's.
+    const AlignmentResult refined =
+        v.aligner.refineAlongWeakDirections(v.reference, v.target, v.map_camera, best, v.params);
+    if (refined.T_ref_cur.matrix() != best.T_ref_cur.matrix()) {
+      out->T_world_cam = v.T_out_ref * refined.T_ref_cur;
+      out->verification = summary(refined, hypothesis, judgeAlignment(refined, config_).passed);
+    }
   }
   // Only a pose the data fixed measures the motion; one that took the prediction's value would
   // confirm the prediction by itself.
