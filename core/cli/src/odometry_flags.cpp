@@ -71,6 +71,8 @@ ABSL_FLAG(double, align_photometric_weight, shortestDecimal(kDefaults.align_phot
 ABSL_FLAG(double, align_step_eigenvalue, shortestDecimal(kDefaults.align_step_eigenvalue),
           "A DEGRADED or LOST pose is refined once more along weaker directions of at least "
           "this eigenvalue; the status stays (0: never)");
+ABSL_FLAG(double, align_step_inlier_slack, shortestDecimal(kDefaults.align_step_inlier_slack),
+          "That refinement is kept only if it loses at most this fraction of the inliers");
 ABSL_FLAG(double, align_confirm_eigenvalue, shortestDecimal(kDefaults.align_confirm_eigenvalue),
           "A weaker direction of at least this eigenvalue confirms the hypothesis when its step "
           "stays within --align_confirm_step (0: never)");
@@ -131,6 +133,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.align_converged_m = float(absl::GetFlag(FLAGS_align_converged));
   c.align_min_eigenvalue = float(absl::GetFlag(FLAGS_align_min_eigenvalue));
   c.align_step_eigenvalue = float(absl::GetFlag(FLAGS_align_step_eigenvalue));
+  c.align_step_inlier_slack = float(absl::GetFlag(FLAGS_align_step_inlier_slack));
   c.align_photometric_weight = float(absl::GetFlag(FLAGS_align_photometric_weight));
   c.align_polish_iterations = absl::GetFlag(FLAGS_align_polish_iterations);
   c.align_confirm_eigenvalue = float(absl::GetFlag(FLAGS_align_confirm_eigenvalue));

@@ -358,7 +358,8 @@ AlignmentResult DepthAligner::refineAlongWeakDirections(const SurfaceSample& ref
   gaussNewton(ref, cur, map_camera, prm, depth_scale, true, prm.iterations, &T_cur_ref, &weak_moved,
               &weak);
   evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, false, false, &weak);
-  if (!(weak.ncc > from.ncc && weak.inliers >= from.inliers && weak.rms_m <= from.rms_m))
+  if (!(weak.ncc > from.ncc && weak.inliers >= (1.0 - prm.step_inlier_slack) * from.inliers &&
+        weak.rms_m <= from.rms_m))
     return from;
   weak.T_ref_cur = T_cur_ref.inverse();
   return weak;

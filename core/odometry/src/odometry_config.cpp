@@ -75,6 +75,7 @@ std::string OdometryConfig::validate() const {
   if (!in(align_normal_dot, -1, 1)) return "align_normal_dot must be in [-1, 1]";
   if (!in(align_min_eigenvalue, 0, 100)) return "align_min_eigenvalue must be in [0, 100]";
   if (!in(align_step_eigenvalue, 0, 100)) return "align_step_eigenvalue must be in [0, 100]";
+  if (!in(align_step_inlier_slack, 0, 0.5)) return "align_step_inlier_slack must be in [0, 0.5]";
   if (!in(align_photometric_weight, 0, 10)) return "align_photometric_weight must be in [0, 10]";
   if (!in(align_confirm_eigenvalue, 0, 100)) return "align_confirm_eigenvalue must be in [0, 100]";
   if (!in(align_confirm_step_m, 0, 1)) return "align_confirm_step_m must be in [0, 1]";
@@ -125,6 +126,7 @@ AlignmentParams alignmentParams(const OdometryConfig& c) {
   p.normal_dot = c.align_normal_dot;
   p.min_eigenvalue = c.align_min_eigenvalue;
   p.step_eigenvalue = c.align_step_eigenvalue;
+  p.step_inlier_slack = c.align_step_inlier_slack;
   p.photometric_weight = c.align_photometric_weight;
   p.confirm_eigenvalue = c.align_confirm_eigenvalue;
   p.confirm_step_m = c.align_confirm_step_m;

@@ -70,6 +70,9 @@ struct AlignmentParams {
   // stay unconstrained, confirmed only when the steps moved the pose by at most confirm_step_m
   // along them. 0: off (align itself never moves a weak direction).
   float step_eigenvalue = 0.0f;
+  // The inliers that pass may lose, as a fraction of the hypothesis' (a point or two at a
+  // pixel's edge is noise, not the geometry objecting).
+  float step_inlier_slack = 0.01f;
 };
 
 struct AlignmentResult {
@@ -109,7 +112,8 @@ class DepthAligner {
   // too weak to constrain, with eigenvalues of at least params.step_eigenvalue: grey values too
   // weak to verify a direction may still point the right way along it (a fast turn over one
   // plane). Returns `from` unless the grey values then agree better while the geometry does not
-  // object (no fewer inliers, no larger surface residual); weak directions stay unverified.
+  // object (inliers within step_inlier_slack, no larger surface residual); weak directions stay
+  // unverified.
   AlignmentResult refineAlongWeakDirections(const SurfaceSample& ref, const AlignmentTarget& cur,
                                             const Camera& map_camera, const AlignmentResult& from,
                                             const AlignmentParams& params);

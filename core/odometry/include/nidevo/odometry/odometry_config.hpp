@@ -93,6 +93,7 @@ struct OdometryConfig {
   // least this eigenvalue (grey values too weak to verify them may still point the right way);
   // the status stays. 0: never. README "The pose check" measures it.
   float align_step_eigenvalue = 0.001f;
+  float align_step_inlier_slack = 0.01f;  // that pass may lose this fraction of the inliers
   // A weaker direction, of at least this eigenvalue, whose would-be step stays within
   // align_confirm_step_m (metres at the mean depth) confirms the hypothesis' value there, and
   // counts as fixed for OK (0: never; README "Accuracy" measures the pair).
