@@ -28,6 +28,34 @@ double energy(const float* x, size_t n) {
   return s;
 }
 
+// Complex products written out as std::complex's operator* computes them without its check for
+// NaN results (which calls a library function and keeps the loop from vectorising): the same
+// bits for finite inputs.
+// out[i] += a[i] * b[i], or conj(a[i]) * b[i].
+void multiplyAdd(const std::complex<float>* a, const std::complex<float>* b, size_t n,
+                 bool conjugate_a, std::complex<float>* out) {
+  const float* x = reinterpret_cast<const float*>(a);
+  const float* y = reinterpret_cast<const float*>(b);
+  float* z = reinterpret_cast<float*>(out);
+  const float sign = conjugate_a ? -1.f : 1.f;
+  for (size_t i = 0; i < 2 * n; i += 2) {
+    const float ar = x[i], ai = sign * x[i + 1], br = y[i], bi = y[i + 1];
+    z[i] += ar * br - ai * bi;
+    z[i + 1] += ar * bi + ai * br;
+  }
+}
+
+// out[i] *= a[i].
+void multiply(const std::complex<float>* a, size_t n, std::complex<float>* out) {
+  const float* x = reinterpret_cast<const float*>(a);
+  float* z = reinterpret_cast<float*>(out);
+  for (size_t i = 0; i < 2 * n; i += 2) {
+    const float zr = z[i], zi = z[i + 1], ar = x[i], ai = x[i + 1];
+    z[i] = zr * ar - zi * ai;
+    z[i + 1] = zr * ai + zi * ar;
+  }
+}
+
 }  // namespace
 
 KernelCrossCorrelator::KernelCrossCorrelator(int width, int height, int channels, double sigma,
@@ -49,8 +77,11 @@ KernelCrossCorrelator::KernelCrossCorrelator(int width, int height, int channels
   std::lock_guard<std::mutex> lock(plannerMutex());
   // With FFTW_MEASURE, later plans of the same size reuse the process's wisdom.
   const unsigned flags = measure_plans ? FFTW_MEASURE : FFTW_ESTIMATE;
-  plan_forward_ = fftwf_plan_dft_r2c_2d(height, width, real_,
-                                        reinterpret_cast<fftwf_complex*>(spectrum_), flags);
+  // The forward transform reads a scratch copy (real_), which it may overwrite: that lets the
+  // planner skip a copy of its own.
+  plan_forward_ =
+      fftwf_plan_dft_r2c_2d(height, width, real_, reinterpret_cast<fftwf_complex*>(spectrum_),
+                            flags | FFTW_DESTROY_INPUT);
   plan_inverse_ = fftwf_plan_dft_c2r_2d(height, width, reinterpret_cast<fftwf_complex*>(spectrum_),
                                         real_, flags);
   if (!plan_forward_ || !plan_inverse_) throw std::runtime_error("FFTW planning failed");
@@ -99,9 +130,7 @@ void KernelCrossCorrelator::gaussianCorrelation(const std::complex<float>* const
                                                 float* out) {
   // Cross-correlation of every circular shift at once: IFFT(sum_c conj(A_c) * B_c).
   std::fill(spectrum_, spectrum_ + n_complex_, std::complex<float>(0.f, 0.f));
-  for (int c = 0; c < channels_; ++c) {
-    for (size_t i = 0; i < n_complex_; ++i) spectrum_[i] += std::conj(a[c][i]) * b[c][i];
-  }
+  for (int c = 0; c < channels_; ++c) multiplyAdd(a[c], b[c], n_complex_, true, spectrum_);
   fftwf_execute_dft_c2r(static_cast<fftwf_plan>(plan_inverse_),
                         reinterpret_cast<fftwf_complex*>(spectrum_), out);
   const double n = double(n_real_);
@@ -155,7 +184,7 @@ void KernelCrossCorrelator::correlate(const float* const* channels) {
   }
   gaussianCorrelation(key_hat_.data(), key_energy_, cur_hat_.data(), cur_energy, response_);
   forward(response_, spectrum_);
-  for (size_t i = 0; i < n_complex_; ++i) spectrum_[i] *= alpha_hat_[i];  // Eq. 15
+  multiply(alpha_hat_, n_complex_, spectrum_);  // Eq. 15
   fftwf_execute_dft_c2r(static_cast<fftwf_plan>(plan_inverse_),
                         reinterpret_cast<fftwf_complex*>(spectrum_), response_);
 }
@@ -232,16 +261,28 @@ void KernelCrossCorrelator::addSubpixelOffset(int pu, int pv, double* du, double
 // Eq. 17: (peak - mean) / std of the response outside the (2e+1)^2 window around the peak.
 double KernelCrossCorrelator::peakToSidelobe(int pu, int pv, double peak, int exclusion) const {
   const int W = width_, H = height_;
+  auto circular_distance = [](int a, int b, int n) {
+    const int d = std::abs(a - b);
+    return std::min(d, n - d);
+  };
+  // Rows that cross the window skip its columns; the others are summed whole. The cells are
+  // visited in the same order either way, so the sums are those of one walk over the image.
   double sum = 0, sum2 = 0;
   size_t count = 0;
   for (int v = 0; v < H; ++v) {
-    int dy = std::abs(v - pv);
-    dy = std::min(dy, H - dy);
+    const float* row = response_ + size_t(v) * size_t(W);
+    if (circular_distance(v, pv, H) > exclusion) {
+      for (int u = 0; u < W; ++u) {
+        const double r = row[u];
+        sum += r;
+        sum2 += r * r;
+      }
+      count += size_t(W);
+      continue;
+    }
     for (int u = 0; u < W; ++u) {
-      int dx = std::abs(u - pu);
-      dx = std::min(dx, W - dx);
-      if (dx <= exclusion && dy <= exclusion) continue;
-      const double r = response_[size_t(v) * size_t(W) + size_t(u)];
+      if (circular_distance(u, pu, W) <= exclusion) continue;
+      const double r = row[u];
       sum += r;
       sum2 += r * r;
       ++count;

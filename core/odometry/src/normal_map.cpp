@@ -4,6 +4,8 @@
 #include <cmath>
 #include <iterator>
 
+#include "constant_stride.hpp"
+
 // The per-pixel work is done one row at a time by the kernels below. They take planes of floats
 // through restrict pointers, compute every pixel and select with masks (no branches), so that
 // the compiler vectorises them. Their sums follow Eigen's order (x + (y + z)), which makes the
@@ -59,10 +61,25 @@ void boxSumRow(const float* __restrict in_x, const float* __restrict in_y,
                float* __restrict out_y, float* __restrict out_z) {
   float ax = 0.f, ay = 0.f, az = 0.f;
   for (int u = 0; u <= std::min(hi, width - 1); ++u) ax += in_x[u], ay += in_y[u], az += in_z[u];
-  for (int u = 0; u < width; ++u) {
+  // The same walk as one loop testing both ends at every pixel, in three spans that need no
+  // test (the sums' order, and so their bits, unchanged): only entering, entering and
+  // leaving, only leaving.
+  const int enter_end = std::min(width, std::max(0, width - hi - 1));  // u + hi + 1 < width
+  const int leave_begin = std::min(width, lo);                         // u - lo >= 0
+  int u = 0;
+  for (; u < std::min(enter_end, leave_begin); ++u) {
     out_x[u] = ax, out_y[u] = ay, out_z[u] = az;
-    if (u + hi + 1 < width) ax += in_x[u + hi + 1], ay += in_y[u + hi + 1], az += in_z[u + hi + 1];
-    if (u - lo >= 0) ax -= in_x[u - lo], ay -= in_y[u - lo], az -= in_z[u - lo];
+    ax += in_x[u + hi + 1], ay += in_y[u + hi + 1], az += in_z[u + hi + 1];
+  }
+  for (; u < leave_begin; ++u) out_x[u] = ax, out_y[u] = ay, out_z[u] = az;
+  for (; u < enter_end; ++u) {
+    out_x[u] = ax, out_y[u] = ay, out_z[u] = az;
+    ax += in_x[u + hi + 1], ay += in_y[u + hi + 1], az += in_z[u + hi + 1];
+    ax -= in_x[u - lo], ay -= in_y[u - lo], az -= in_z[u - lo];
+  }
+  for (; u < width; ++u) {
+    out_x[u] = ax, out_y[u] = ay, out_z[u] = az;
+    ax -= in_x[u - lo], ay -= in_y[u - lo], az -= in_z[u - lo];
   }
 }
 
@@ -177,19 +194,21 @@ void NormalMapBuilder::backProject(const DepthImageF& depth, const Camera& cam, 
                                    float min_depth, float max_depth, NormalMap* out) {
   const int W = out->width, H = out->height;
   updateRays(cam, W, H);
-  for (int v = 0; v < H; ++v) {
-    const float* row = &depth.data[size_t(v * stride) * size_t(depth.width)];
-    float* z_row = rowOf(z_, W, v);
-    Eigen::Vector3f* dst = &out->points[size_t(v) * size_t(W)];
-    const float* rx = rowOf(ray_x_, W, v);
-    const float* ry = rowOf(ray_y_, W, v);
-    for (int u = 0; u < W; ++u) {
-      float z = row[u * stride];
-      if (!(z >= min_depth && z <= max_depth)) z = 0.f;  // also rejects NaN
-      z_row[u] = z;
-      dst[u] = Eigen::Vector3f(rx[u] * z, ry[u] * z, z);
+  withConstantStride(stride, [&](auto step) {
+    for (int v = 0; v < H; ++v) {
+      const float* row = &depth.data[size_t(v * step) * size_t(depth.width)];
+      float* z_row = rowOf(z_, W, v);
+      Eigen::Vector3f* dst = &out->points[size_t(v) * size_t(W)];
+      const float* rx = rowOf(ray_x_, W, v);
+      const float* ry = rowOf(ray_y_, W, v);
+      for (int u = 0; u < W; ++u) {
+        float z = row[u * step];
+        if (!(z >= min_depth && z <= max_depth)) z = 0.f;  // also rejects NaN
+        z_row[u] = z;
+        dst[u] = Eigen::Vector3f(rx[u] * z, ry[u] * z, z);
+      }
     }
-  }
+  });
 }
 
 // Paper Eq. 4 at every pixel with both vertical neighbours; the first and last rows get none.

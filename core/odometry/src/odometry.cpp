@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "constant_stride.hpp"
 #include "nidevo/odometry/motion_model.hpp"
 #include "nidevo/odometry/rotation_solver.hpp"
 #include "verification_state.hpp"
@@ -142,33 +143,47 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
   s->normal_builder.compute(frame.depth, camera_, config_.normal_stride, config_.cell_size,
                             config_.depth_discontinuity, config_.min_depth_m, config_.max_depth_m,
                             config_.crease_dot, &s->normals);
-  const int map_stride = config_.normal_stride;
-  s->map_intensity.resize(size_t(s->normals.width) * size_t(s->normals.height));
-  for (int v = 0; v < s->normals.height; ++v) {
-    const uint8_t* gray_row = &frame.gray.data[size_t(v * map_stride) * size_t(camera_.width)];
-    float* dst = &s->map_intensity[size_t(v) * size_t(s->normals.width)];
-    for (int u = 0; u < s->normals.width; ++u)
-      dst[u] = float(gray_row[u * map_stride]) * (1.f / 255.f);
-  }
+  const int map_width = s->normals.width;
+  s->map_intensity.resize(size_t(map_width) * size_t(s->normals.height));
+  withConstantStride(config_.normal_stride, [&](auto step) {
+    for (int v = 0; v < s->normals.height; ++v) {
+      const uint8_t* gray_row = &frame.gray.data[size_t(v * step) * size_t(camera_.width)];
+      float* dst = &s->map_intensity[size_t(v) * size_t(map_width)];
+      for (int u = 0; u < map_width; ++u) dst[u] = float(gray_row[u * step]) * (1.f / 255.f);
+    }
+  });
   const int stride = config_.projection_stride;
   const int W = camera_.width / stride, H = camera_.height / stride;
   for (auto* plane : {&s->cloud_x, &s->cloud_y, &s->cloud_z}) plane->resize(size_t(W) * size_t(H));
   s->intensity.resize(size_t(W) * size_t(H));
   int valid = 0;
-  for (int v = 0; v < H; ++v) {
-    const float* depth_row = &frame.depth.data[size_t(v * stride) * size_t(camera_.width)];
-    const uint8_t* gray_row = &frame.gray.data[size_t(v * stride) * size_t(camera_.width)];
-    for (int u = 0; u < W; ++u) {
-      float z = depth_row[u * stride];
-      if (!(z >= config_.min_depth_m && z <= config_.max_depth_m)) z = 0.f;
-      valid += z > 0.f;
-      const size_t i = size_t(v) * size_t(W) + size_t(u);
-      s->cloud_x[i] = ray_x_[i] * z;
-      s->cloud_y[i] = ray_y_[i] * z;
-      s->cloud_z[i] = z;
-      s->intensity[i] = float(gray_row[u * stride]) * (1.f / 255.f);
+  const float min_depth = config_.min_depth_m, max_depth = config_.max_depth_m;
+  withConstantStride(stride, [&](auto step) {
+    for (int v = 0; v < H; ++v) {
+      const float* __restrict depth_row =
+          &frame.depth.data[size_t(v * step) * size_t(camera_.width)];
+      const uint8_t* __restrict gray_row =
+          &frame.gray.data[size_t(v * step) * size_t(camera_.width)];
+      const size_t row = size_t(v) * size_t(W);
+      const float* __restrict ray_x = &ray_x_[row];
+      const float* __restrict ray_y = &ray_y_[row];
+      float* __restrict x = &s->cloud_x[row];
+      float* __restrict y = &s->cloud_y[row];
+      float* __restrict z = &s->cloud_z[row];
+      float* __restrict intensity = &s->intensity[row];
+      for (int u = 0; u < W; ++u) {
+        const float d = depth_row[u * step];
+        const bool in_range = (d >= min_depth) & (d <= max_depth);  // false for NaN
+        const float depth = in_range ? d : 0.f;
+        valid += in_range & (d > 0.f);  // depth > 0, in a form the vectoriser takes
+        x[u] = ray_x[u] * depth;
+        y[u] = ray_y[u] * depth;
+        z[u] = depth;
+      }
+      // Bytes and floats in one loop do not vectorise; apart they do.
+      for (int u = 0; u < W; ++u) intensity[u] = float(gray_row[u * step]) * (1.f / 255.f);
     }
-  }
+  });
   s->depth_ok = float(valid) >= config_.min_valid_depth_fraction * float(W * H) &&
                 s->normals.validCount() > 0;
   s->times = StageTimes{};
