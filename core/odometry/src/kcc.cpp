@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "vector_clones.hpp"
+
 namespace nidevo {
 
 namespace {
@@ -33,8 +35,8 @@ double energy(const float* x, size_t n) {
 // NaN results (which calls a library function and keeps the loop from vectorising): the same
 // bits for finite inputs.
 // out[i] += a[i] * b[i], or conj(a[i]) * b[i].
-void multiplyAdd(const std::complex<float>* a, const std::complex<float>* b, size_t n,
-                 bool conjugate_a, std::complex<float>* out) {
+NIDEVO_VECTOR_CLONES void multiplyAdd(const std::complex<float>* a, const std::complex<float>* b,
+                                      size_t n, bool conjugate_a, std::complex<float>* out) {
   const float* x = reinterpret_cast<const float*>(a);
   const float* y = reinterpret_cast<const float*>(b);
   float* z = reinterpret_cast<float*>(out);
@@ -47,7 +49,8 @@ void multiplyAdd(const std::complex<float>* a, const std::complex<float>* b, siz
 }
 
 // out[i] *= a[i].
-void multiply(const std::complex<float>* a, size_t n, std::complex<float>* out) {
+NIDEVO_VECTOR_CLONES void multiply(const std::complex<float>* a, size_t n,
+                                   std::complex<float>* out) {
   const float* x = reinterpret_cast<const float*>(a);
   float* z = reinterpret_cast<float*>(out);
   for (size_t i = 0; i < 2 * n; i += 2) {

@@ -5,6 +5,7 @@
 #include <iterator>
 
 #include "constant_stride.hpp"
+#include "vector_clones.hpp"
 
 // The per-pixel work is done one row at a time by the kernels below. They take planes of floats
 // through restrict pointers, compute every pixel and select with masks (no branches), so that
@@ -17,13 +18,12 @@ namespace {
 // Eq. 4 by central differences on the points (ray * z) of rows top, centre and bottom. A pixel
 // without depth, a missing neighbour or a depth jump leaves no normal (0 and has = 0), and so do
 // the first and last pixels, which lack a neighbour.
-void centralDifferencesRow(const float* __restrict z_top, const float* __restrict z_mid,
-                           const float* __restrict z_bot, const float* __restrict rx_top,
-                           const float* __restrict rx, const float* __restrict rx_bot,
-                           const float* __restrict ry_top, const float* __restrict ry,
-                           const float* __restrict ry_bot, int width, float depth_discontinuity,
-                           float* __restrict nx, float* __restrict ny, float* __restrict nz,
-                           uint8_t* __restrict has) {
+NIDEVO_VECTOR_CLONES void centralDifferencesRow(
+    const float* __restrict z_top, const float* __restrict z_mid, const float* __restrict z_bot,
+    const float* __restrict rx_top, const float* __restrict rx, const float* __restrict rx_bot,
+    const float* __restrict ry_top, const float* __restrict ry, const float* __restrict ry_bot,
+    int width, float depth_discontinuity, float* __restrict nx, float* __restrict ny,
+    float* __restrict nz, uint8_t* __restrict has) {
   for (int u : {0, width - 1}) nx[u] = ny[u] = nz[u] = 0.f, has[u] = 0;
   for (int u = 1; u < width - 1; ++u) {
     const float z0 = z_mid[u], zl = z_mid[u - 1], zr = z_mid[u + 1], zt = z_top[u], zb = z_bot[u];
@@ -84,9 +84,10 @@ void boxSumRow(const float* __restrict in_x, const float* __restrict in_y,
 }
 
 // sum += in (add) or sum -= in, per component.
-void accumulateRow(const float* __restrict in_x, const float* __restrict in_y,
-                   const float* __restrict in_z, int width, bool add, float* __restrict sum_x,
-                   float* __restrict sum_y, float* __restrict sum_z) {
+NIDEVO_VECTOR_CLONES void accumulateRow(const float* __restrict in_x, const float* __restrict in_y,
+                                        const float* __restrict in_z, int width, bool add,
+                                        float* __restrict sum_x, float* __restrict sum_y,
+                                        float* __restrict sum_z) {
   if (add) {
     for (int u = 0; u < width; ++u) sum_x[u] += in_x[u], sum_y[u] += in_y[u], sum_z[u] += in_z[u];
   } else {
@@ -95,10 +96,10 @@ void accumulateRow(const float* __restrict in_x, const float* __restrict in_y,
 }
 
 // Unit smoothed normal where the pixel had its own normal and the box sum does not vanish.
-void normaliseRow(const float* __restrict sum_x, const float* __restrict sum_y,
-                  const float* __restrict sum_z, const uint8_t* __restrict has, int width,
-                  float* __restrict nx, float* __restrict ny, float* __restrict nz,
-                  uint8_t* __restrict valid) {
+NIDEVO_VECTOR_CLONES void normaliseRow(const float* __restrict sum_x, const float* __restrict sum_y,
+                                       const float* __restrict sum_z, const uint8_t* __restrict has,
+                                       int width, float* __restrict nx, float* __restrict ny,
+                                       float* __restrict nz, uint8_t* __restrict valid) {
   for (int u = 0; u < width; ++u) {
     const float len = std::sqrt(sum_x[u] * sum_x[u] + (sum_y[u] * sum_y[u] + sum_z[u] * sum_z[u]));
     const bool ok = (has[u] != 0) & (len > 1e-6f);
@@ -113,10 +114,13 @@ void normaliseRow(const float* __restrict sum_x, const float* __restrict sum_y,
 
 // Valid, with every 4-neighbour valid and its normal within crease_dot. Rows are passed as
 // (x, y, z, valid) of the row above, this row and the row below.
-void smoothRow(const float* const* __restrict top, const float* const* __restrict mid,
-               const float* const* __restrict bot, const uint8_t* __restrict valid_top,
-               const uint8_t* __restrict valid_mid, const uint8_t* __restrict valid_bot, int width,
-               float crease_dot, uint8_t* __restrict smooth) {
+NIDEVO_VECTOR_CLONES void smoothRow(const float* const* __restrict top,
+                                    const float* const* __restrict mid,
+                                    const float* const* __restrict bot,
+                                    const uint8_t* __restrict valid_top,
+                                    const uint8_t* __restrict valid_mid,
+                                    const uint8_t* __restrict valid_bot, int width,
+                                    float crease_dot, uint8_t* __restrict smooth) {
   const float* __restrict x = mid[0], * __restrict y = mid[1], * __restrict z = mid[2];
   const float* __restrict xt = top[0], * __restrict yt = top[1], * __restrict zt = top[2];
   const float* __restrict xb = bot[0], * __restrict yb = bot[1], * __restrict zb = bot[2];

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "vector_clones.hpp"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -51,8 +53,9 @@ struct Rotation {
 
 // Per point, the half-extent max(|x| 2/W, |y| 2/H) of R p in units of the image's half-size,
 // or infinity for a point without depth (those sort after every valid one).
-void halfExtents(const float* __restrict x, const float* __restrict y, const float* __restrict z,
-                 size_t n, const Rotation& R, float sx, float sy, float* __restrict extent) {
+NIDEVO_VECTOR_CLONES void halfExtents(const float* __restrict x, const float* __restrict y,
+                                      const float* __restrict z, size_t n, const Rotation& R,
+                                      float sx, float sy, float* __restrict extent) {
   for (size_t i = 0; i < n; ++i) {
     const float px = R.x(x[i], y[i], z[i]), py = R.y(x[i], y[i], z[i]);
     const float e = std::max(std::abs(px) * sx, std::abs(py) * sy);
@@ -63,9 +66,10 @@ void halfExtents(const float* __restrict x, const float* __restrict y, const flo
 // Per point, the cell of R p (-1 if p or R p is not in front, or R p falls outside the image) and
 // the depth of R p. fu in [0, width) is floor(fu) in [0, width - 1], and int() truncates like
 // floor there.
-void projectionCells(const float* __restrict x, const float* __restrict y,
-                     const float* __restrict z, size_t n, const Rotation& R, float inv_r, int width,
-                     int height, int* __restrict cell, float* __restrict depth) {
+NIDEVO_VECTOR_CLONES void projectionCells(const float* __restrict x, const float* __restrict y,
+                                          const float* __restrict z, size_t n, const Rotation& R,
+                                          float inv_r, int width, int height, int* __restrict cell,
+                                          float* __restrict depth) {
   const float half_w = float(width) / 2, half_h = float(height) / 2;
   const float fw = float(width), fh = float(height);
   for (size_t i = 0; i < n; ++i) {
@@ -193,8 +197,9 @@ void fillRow(float* gray, float* depth, float* weight, int count, int max_gap, f
 // One step of the column pass at row v: for every column, the last filled row before v
 // (`last`, updated) and, where a fillable gap ends at row v, its first row - 1 in `from` (else
 // -1). Branch-free so that it vectorises; returns whether any gap ends here.
-bool columnGapsEndingAt(const float* __restrict depth_row, int width, int v, int max_gap,
-                        int* __restrict last, int* __restrict from) {
+NIDEVO_VECTOR_CLONES bool columnGapsEndingAt(const float* __restrict depth_row, int width, int v,
+                                             int max_gap, int* __restrict last,
+                                             int* __restrict from) {
   int any = 0;
   for (int u = 0; u < width; ++u) {
     const int l = last[u];
