@@ -8,6 +8,7 @@
 #include "constant_stride.hpp"
 #include "nidevo/odometry/motion_model.hpp"
 #include "nidevo/odometry/rotation_solver.hpp"
+#include "vector_clones.hpp"
 #include "verification_state.hpp"
 
 namespace nidevo {
@@ -129,6 +130,52 @@ Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
 
 Odometry::~Odometry() = default;
 
+namespace {
+
+// One row of the projection cloud from every step-th input pixel: the depth within
+// [min_depth, max_depth] (else 0, NaN too) along the pixel's ray. Returns the valid count.
+template <class Step>
+[[gnu::always_inline]] inline int cloudRowWithStep(const float* __restrict depth_row, Step step,
+                                                   const float* __restrict ray_x,
+                                                   const float* __restrict ray_y, int width,
+                                                   float min_depth, float max_depth,
+                                                   float* __restrict x, float* __restrict y,
+                                                   float* __restrict z) {
+  int valid = 0;
+  for (int u = 0; u < width; ++u) {
+    const float d = depth_row[u * step];
+    const bool in_range = (d >= min_depth) & (d <= max_depth);  // false for NaN
+    const float depth = in_range ? d : 0.f;
+    valid += in_range & (d > 0.f);  // depth > 0, in a form the vectoriser takes
+    x[u] = ray_x[u] * depth;
+    y[u] = ray_y[u] * depth;
+    z[u] = depth;
+  }
+  return valid;
+}
+
+NIDEVO_VECTOR_CLONES int cloudRow(const float* depth_row, int step, const float* ray_x,
+                                  const float* ray_y, int width, float min_depth, float max_depth,
+                                  float* x, float* y, float* z) {
+  // A constant stride of 2 (the default) vectorises; a stride known at run time only does not.
+  if (step == 2) {
+    return cloudRowWithStep(depth_row, std::integral_constant<int, 2>{}, ray_x, ray_y, width,
+                            min_depth, max_depth, x, y, z);
+  }
+  return cloudRowWithStep(depth_row, step, ray_x, ray_y, width, min_depth, max_depth, x, y, z);
+}
+
+// Every step-th grey value of a row, in [0, 1]. Apart from cloudRow: bytes and floats in one
+// loop do not vectorise.
+NIDEVO_VECTOR_CLONES void greyRow(const uint8_t* __restrict gray_row, int step, int width,
+                                  float* __restrict out) {
+  withConstantStride(step, [&](auto s) {
+    for (int u = 0; u < width; ++u) out[u] = float(gray_row[u * s]) * (1.f / 255.f);
+  });
+}
+
+}  // namespace
+
 void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
   const auto t0 = std::chrono::steady_clock::now();
   if (std::string e = camera_.checkImageSize(frame.depth.width, frame.depth.height); !e.empty())
@@ -145,45 +192,23 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
                             config_.crease_dot, &s->normals);
   const int map_width = s->normals.width;
   s->map_intensity.resize(size_t(map_width) * size_t(s->normals.height));
-  withConstantStride(config_.normal_stride, [&](auto step) {
-    for (int v = 0; v < s->normals.height; ++v) {
-      const uint8_t* gray_row = &frame.gray.data[size_t(v * step) * size_t(camera_.width)];
-      float* dst = &s->map_intensity[size_t(v) * size_t(map_width)];
-      for (int u = 0; u < map_width; ++u) dst[u] = float(gray_row[u * step]) * (1.f / 255.f);
-    }
-  });
+  for (int v = 0; v < s->normals.height; ++v) {
+    greyRow(&frame.gray.data[size_t(v * config_.normal_stride) * size_t(camera_.width)],
+            config_.normal_stride, map_width, &s->map_intensity[size_t(v) * size_t(map_width)]);
+  }
   const int stride = config_.projection_stride;
   const int W = camera_.width / stride, H = camera_.height / stride;
   for (auto* plane : {&s->cloud_x, &s->cloud_y, &s->cloud_z}) plane->resize(size_t(W) * size_t(H));
   s->intensity.resize(size_t(W) * size_t(H));
   int valid = 0;
-  const float min_depth = config_.min_depth_m, max_depth = config_.max_depth_m;
-  withConstantStride(stride, [&](auto step) {
-    for (int v = 0; v < H; ++v) {
-      const float* __restrict depth_row =
-          &frame.depth.data[size_t(v * step) * size_t(camera_.width)];
-      const uint8_t* __restrict gray_row =
-          &frame.gray.data[size_t(v * step) * size_t(camera_.width)];
-      const size_t row = size_t(v) * size_t(W);
-      const float* __restrict ray_x = &ray_x_[row];
-      const float* __restrict ray_y = &ray_y_[row];
-      float* __restrict x = &s->cloud_x[row];
-      float* __restrict y = &s->cloud_y[row];
-      float* __restrict z = &s->cloud_z[row];
-      float* __restrict intensity = &s->intensity[row];
-      for (int u = 0; u < W; ++u) {
-        const float d = depth_row[u * step];
-        const bool in_range = (d >= min_depth) & (d <= max_depth);  // false for NaN
-        const float depth = in_range ? d : 0.f;
-        valid += in_range & (d > 0.f);  // depth > 0, in a form the vectoriser takes
-        x[u] = ray_x[u] * depth;
-        y[u] = ray_y[u] * depth;
-        z[u] = depth;
-      }
-      // Bytes and floats in one loop do not vectorise; apart they do.
-      for (int u = 0; u < W; ++u) intensity[u] = float(gray_row[u * step]) * (1.f / 255.f);
-    }
-  });
+  for (int v = 0; v < H; ++v) {
+    const size_t row = size_t(v) * size_t(W),
+                 input_row = size_t(v * stride) * size_t(camera_.width);
+    valid += cloudRow(&frame.depth.data[input_row], stride, &ray_x_[row], &ray_y_[row], W,
+                      config_.min_depth_m, config_.max_depth_m, &s->cloud_x[row], &s->cloud_y[row],
+                      &s->cloud_z[row]);
+    greyRow(&frame.gray.data[input_row], stride, W, &s->intensity[row]);
+  }
   s->depth_ok = float(valid) >= config_.min_valid_depth_fraction * float(W * H) &&
                 s->normals.validCount() > 0;
   s->times = StageTimes{};

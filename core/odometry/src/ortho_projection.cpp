@@ -240,6 +240,18 @@ void OrthoProjector::fillGaps(OrthoImage* img, int max_gap, float relative_depth
   }
 }
 
+namespace {
+
+// Filled cells' grey values towards `mean` by their weight; empty cells take it.
+NIDEVO_VECTOR_CLONES void fadeTowardsMean(const float* __restrict depth,
+                                          const float* __restrict weight, size_t n, float mean,
+                                          float* __restrict gray) {
+  for (size_t i = 0; i < n; ++i)
+    gray[i] = depth[i] > 0.f ? mean + weight[i] * (gray[i] - mean) : mean;
+}
+
+}  // namespace
+
 void OrthoProjector::flattenOutline(OrthoImage* img) {
   double sum = 0, weights = 0;
   const float* __restrict depth = img->depth.data();
@@ -253,10 +265,8 @@ void OrthoProjector::flattenOutline(OrthoImage* img) {
     weights += w;
   }
   if (weights <= 0) return;
-  const float mean = float(sum / weights);
-  for (size_t i = 0; i < img->depth.size(); ++i) {
-    img->gray[i] = img->depth[i] > 0.f ? mean + img->weight[i] * (img->gray[i] - mean) : mean;
-  }
+  fadeTowardsMean(img->depth.data(), img->weight.data(), img->depth.size(), float(sum / weights),
+                  img->gray.data());
 }
 
 }  // namespace nidevo
