@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <tuple>
 
 namespace nidevo {
 namespace {
@@ -99,6 +101,38 @@ TEST(Kcc, PsrIsHighOnAMatchAndLowOnUnrelatedImages) {
   EXPECT_GT(psr_match, 30);
   EXPECT_LT(psr_other, psr_match / 3);
   EXPECT_LT(psr_random, psr_match / 3);
+}
+
+// Eq. 17 by the book on the filter's response: every cell whose circular distance from the peak
+// exceeds the exclusion in u or v is side lobe. The peak sits at the image's corner, so that the
+// excluded window wraps around both borders.
+TEST(Kcc, PsrIsEq17WithTheExcludedWindowWrappingAroundTheBorders) {
+  KernelCrossCorrelator kcc(kW, kH, 1, 0.2, 0.1);
+  const auto x = texture(0, 0);
+  const float* key[] = {x.data()};
+  kcc.train(key);
+  for (auto [su, sv, exclusion] : {std::tuple{-2, 1, 5}, {3, -4, 5}, {40, 30, 2}, {0, 0, 7}}) {
+    const auto z = circularShift(x, su, sv);
+    const float* cur[] = {z.data()};
+    const KccMatch m = kcc.match(cur, /*subpixel=*/false, exclusion);
+    ASSERT_EQ(m.du, su);
+    ASSERT_EQ(m.dv, sv);
+    const int pu = (su + kW) % kW, pv = (sv + kH) % kH;
+    const float* response = kcc.response();
+    double sum = 0, sum2 = 0, count = 0;
+    for (int v = 0; v < kH; ++v) {
+      for (int u = 0; u < kW; ++u) {
+        const int dx = std::min(std::abs(u - pu), kW - std::abs(u - pu));
+        const int dy = std::min(std::abs(v - pv), kH - std::abs(v - pv));
+        if (dx <= exclusion && dy <= exclusion) continue;
+        const double r = response[size_t(v) * kW + size_t(u)];
+        sum += r, sum2 += r * r, count += 1;
+      }
+    }
+    EXPECT_EQ(count, kW * kH - (2 * exclusion + 1) * (2 * exclusion + 1));
+    const double mean = sum / count, sd = std::sqrt(sum2 / count - mean * mean);
+    EXPECT_NEAR(m.psr, (m.peak - mean) / sd, 1e-9 * std::abs(m.psr));
+  }
 }
 
 TEST(Kcc, TwoChannelsRecoverTheShiftOfAFeaturelessGreyImage) {
