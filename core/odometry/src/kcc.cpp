@@ -2,7 +2,6 @@
 
 #include <fftw3.h>
 
-#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <mutex>
@@ -141,10 +140,10 @@ void KernelCrossCorrelator::gaussianCorrelation(const std::complex<float>* const
   const float inv_n = float(1.0 / n);  // FFTW's inverse is unnormalised
   const float scale = float(-1.0 / (sigma_ * sigma_ * n));
   const float sum = float(aa + bb);
-  // Eigen's exp, a vector at a time (within an ulp or two of std::exp, which takes one value
-  // at a time and was a tenth of the frame's instructions).
-  Eigen::Map<Eigen::ArrayXf> kernel(out, Eigen::Index(n_real_));
-  kernel = ((sum - (2.f * kernel) * inv_n).max(0.f) * scale).exp();
+  for (size_t i = 0; i < n_real_; ++i) {
+    const float d2 = std::max(0.f, sum - 2.f * out[i] * inv_n);
+    out[i] = std::exp(d2 * scale);
+  }
 }
 
 void KernelCrossCorrelator::train(const float* const* channels) {
