@@ -33,15 +33,15 @@ double energy(const float* x, size_t n) {
 // Complex products written out as std::complex's operator* computes them without its check for
 // NaN results (which calls a library function and keeps the loop from vectorising): the same
 // bits for finite inputs.
-// out[i] += a[i] * b[i], or conj(a[i]) * b[i].
-NIDEVO_VECTOR_CLONES void multiplyAdd(const std::complex<float>* a, const std::complex<float>* b,
-                                      size_t n, bool conjugate_a, std::complex<float>* out) {
+// out[i] += conj(a[i]) * b[i].
+NIDEVO_VECTOR_CLONES void addConjugateProducts(const std::complex<float>* a,
+                                               const std::complex<float>* b, size_t n,
+                                               std::complex<float>* out) {
   const float* x = reinterpret_cast<const float*>(a);
   const float* y = reinterpret_cast<const float*>(b);
   float* z = reinterpret_cast<float*>(out);
-  const float sign = conjugate_a ? -1.f : 1.f;
   for (size_t i = 0; i < 2 * n; i += 2) {
-    const float ar = x[i], ai = sign * x[i + 1], br = y[i], bi = y[i + 1];
+    const float ar = x[i], ai = -x[i + 1], br = y[i], bi = y[i + 1];
     z[i] += ar * br - ai * bi;
     z[i + 1] += ar * bi + ai * br;
   }
@@ -133,7 +133,7 @@ void KernelCrossCorrelator::gaussianCorrelation(const std::complex<float>* const
                                                 float* out) {
   // Cross-correlation of every circular shift at once: IFFT(sum_c conj(A_c) * B_c).
   std::fill(spectrum_, spectrum_ + n_complex_, std::complex<float>(0.f, 0.f));
-  for (int c = 0; c < channels_; ++c) multiplyAdd(a[c], b[c], n_complex_, true, spectrum_);
+  for (int c = 0; c < channels_; ++c) addConjugateProducts(a[c], b[c], n_complex_, spectrum_);
   fftwf_execute_dft_c2r(static_cast<fftwf_plan>(plan_inverse_),
                         reinterpret_cast<fftwf_complex*>(spectrum_), out);
   const double n = double(n_real_);

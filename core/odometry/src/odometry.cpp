@@ -158,6 +158,8 @@ NIDEVO_VECTOR_CLONES int cloudRow(const float* depth_row, int step, const float*
                                   const float* ray_y, int width, float min_depth, float max_depth,
                                   float* x, float* y, float* z) {
   // A constant stride of 2 (the default) vectorises; a stride known at run time only does not.
+  // Not withConstantStride: its lambda would count into a captured reference, which keeps the
+  // loop scalar.
   if (step == 2) {
     return cloudRowWithStep(depth_row, std::integral_constant<int, 2>{}, ray_x, ray_y, width,
                             min_depth, max_depth, x, y, z);
