@@ -26,6 +26,7 @@ struct SessionRun {
   std::unordered_map<uint64_t, Clock::time_point> in_flight;  // sequence -> send time
   uint64_t sent = 0, ok = 0, degraded = 0, lost = 0, dropped = 0, error = 0;
   std::vector<double> latencies;               // tracked, sent in the window
+  std::vector<FrameTiming> timings;            // the same frames with the server's timings
   std::vector<std::vector<double>> thirds{3};  // the same, by third of the window
   uint64_t window_tracked = 0, window_dropped = 0;
   grpc::Status status;
@@ -75,6 +76,9 @@ void runSession(const LoadTestConfig& config, const std::vector<v1::Frame>& fram
     if (tracked) {
       const double latency = seconds(now - sent_at);
       run->latencies.push_back(latency);
+      const v1::ServerTimings& t = r.timings();
+      run->timings.push_back({latency, t.total(), t.queue(), t.decode(),
+                              t.normals() + t.rotation() + t.translation()});
       const double f = seconds(sent_at - window.start) / seconds(window.end - window.start);
       run->thirds[std::min<size_t>(2, size_t(f * 3))].push_back(latency);
       ++run->window_tracked;
@@ -133,6 +137,27 @@ LatencySummary summarize(std::vector<double> v) {
   return s;
 }
 
+LatencyBreakdown breakdownOf(const std::vector<FrameTiming>& frames) {
+  LatencyBreakdown b;
+  b.count = frames.size();
+  if (frames.empty()) return b;
+  auto median = [&](auto part) {
+    std::vector<double> v;
+    v.reserve(frames.size());
+    for (const FrameTiming& f : frames) v.push_back(part(f));
+    return summarize(std::move(v)).p50;
+  };
+  b.send_to_answer = median([](const FrameTiming& f) { return f.send_to_answer; });
+  b.outside_server = median([](const FrameTiming& f) { return f.send_to_answer - f.server_total; });
+  b.server_total = median([](const FrameTiming& f) { return f.server_total; });
+  b.queue = median([](const FrameTiming& f) { return f.queue; });
+  b.decode = median([](const FrameTiming& f) { return f.decode; });
+  b.stages = median([](const FrameTiming& f) { return f.stages; });
+  b.hand_offs =
+      median([](const FrameTiming& f) { return f.server_total - f.queue - f.decode - f.stages; });
+  return b;
+}
+
 double histogramQuantile(double q, const std::map<double, double>& buckets) {
   if (buckets.empty()) return 0;
   const double total = buckets.rbegin()->second;
@@ -179,6 +204,7 @@ LoadTestResult runLoadTest(const LoadTestConfig& config, const std::vector<v1::F
   result.sessions = config.sessions;
   result.window_s = config.duration_s;
   std::vector<double> latencies;
+  std::vector<FrameTiming> timings;
   std::vector<std::vector<double>> thirds(3);
   uint64_t window_tracked = 0;
   for (auto& run : runs) {
@@ -191,6 +217,7 @@ LoadTestResult runLoadTest(const LoadTestConfig& config, const std::vector<v1::F
     result.unanswered += run.in_flight.size();
     ++result.session_status[statusCodeName(run.status.error_code())];
     latencies.insert(latencies.end(), run.latencies.begin(), run.latencies.end());
+    timings.insert(timings.end(), run.timings.begin(), run.timings.end());
     for (size_t k = 0; k < 3; ++k)
       thirds[k].insert(thirds[k].end(), run.thirds[k].begin(), run.thirds[k].end());
     window_tracked += run.window_tracked;
@@ -200,6 +227,7 @@ LoadTestResult runLoadTest(const LoadTestConfig& config, const std::vector<v1::F
       result.ok + result.degraded + result.lost + result.dropped + result.error;
   result.accounting_closed = result.sent == answered + result.unanswered;
   result.latency = summarize(latencies);
+  result.breakdown = breakdownOf(timings);
   result.poses_per_s = double(window_tracked) / config.duration_s;
   double lo = std::numeric_limits<double>::infinity(), hi = 0;
   for (auto& third : thirds) {
@@ -268,6 +296,17 @@ std::string formatTable(const std::vector<LoadTestResult>& steps) {
                   "load tester, %d sessions: %.2f CPU s in %.1f s (%.2f cores)\n", r.sessions,
                   r.tester_cpu_s, r.step_s, r.step_s > 0 ? r.tester_cpu_s / r.step_s : 0.0);
     out << line;
+    const LatencyBreakdown& b = r.breakdown;
+    if (b.count > 0) {
+      std::snprintf(line, sizeof(line),
+                    "time per frame, %d sessions (medians of %zu): send to answer %.2f ms = "
+                    "outside the server %.2f + server %.2f (queue %.2f, decode %.2f, stages %.2f, "
+                    "hand-offs %.2f)\n",
+                    r.sessions, b.count, 1e3 * b.send_to_answer, 1e3 * b.outside_server,
+                    1e3 * b.server_total, 1e3 * b.queue, 1e3 * b.decode, 1e3 * b.stages,
+                    1e3 * b.hand_offs);
+      out << line;
+    }
     if (r.have_server_view) {
       std::snprintf(line, sizeof(line),
                     "server view, %d sessions: %.0f frames answered, mean %.2f ms, p99 %.2f ms "
@@ -285,7 +324,9 @@ std::string formatCsv(const std::vector<LoadTestResult>& steps) {
   std::ostringstream out;
   out << "sessions,window_s,poses_per_s,p50_s,p90_s,p95_s,p99_s,max_s,sent,ok,degraded,lost,"
          "dropped,error,unanswered,accounting_closed,stable,server_frames,server_mean_s,"
-         "server_p99_s,server_cpu_s,server_cpu_s_per_tracked_frame,tester_cpu_s,step_s\n";
+         "server_p99_s,server_cpu_s,server_cpu_s_per_tracked_frame,tester_cpu_s,step_s,"
+         "median_outside_server_s,median_server_total_s,median_queue_s,median_decode_s,"
+         "median_stages_s,median_hand_offs_s\n";
   for (const auto& r : steps)
     out << r.sessions << ',' << r.window_s << ',' << r.poses_per_s << ',' << r.latency.p50 << ','
         << r.latency.p90 << ',' << r.latency.p95 << ',' << r.latency.p99 << ',' << r.latency.max
@@ -293,7 +334,10 @@ std::string formatCsv(const std::vector<LoadTestResult>& steps) {
         << ',' << r.error << ',' << r.unanswered << ',' << (r.accounting_closed ? 1 : 0) << ','
         << (r.stable ? 1 : 0) << ',' << r.server_frames << ',' << r.server_mean_latency_s << ','
         << r.server_p99_latency_s << ',' << r.server_cpu_s << ','
-        << r.server_cpu_s_per_tracked_frame << ',' << r.tester_cpu_s << ',' << r.step_s << '\n';
+        << r.server_cpu_s_per_tracked_frame << ',' << r.tester_cpu_s << ',' << r.step_s << ','
+        << r.breakdown.outside_server << ',' << r.breakdown.server_total << ',' << r.breakdown.queue
+        << ',' << r.breakdown.decode << ',' << r.breakdown.stages << ',' << r.breakdown.hand_offs
+        << '\n';
   return out.str();
 }
 
@@ -314,7 +358,12 @@ std::string formatJson(const std::vector<LoadTestResult>& steps) {
         << ", \"accounting_closed\": " << (r.accounting_closed ? "true" : "false")
         << ", \"stable\": " << (r.stable ? "true" : "false")
         << ", \"tester_cpu_s\": " << r.tester_cpu_s << ", \"step_s\": " << r.step_s
-        << ", \"sessions_ended\": {";
+        << ", \"median_s\": {\"send_to_answer\": " << r.breakdown.send_to_answer
+        << ", \"outside_server\": " << r.breakdown.outside_server
+        << ", \"server_total\": " << r.breakdown.server_total
+        << ", \"queue\": " << r.breakdown.queue << ", \"decode\": " << r.breakdown.decode
+        << ", \"stages\": " << r.breakdown.stages << ", \"hand_offs\": " << r.breakdown.hand_offs
+        << "}, \"sessions_ended\": {";
     size_t k = 0;
     for (const auto& [code, n] : r.session_status)
       out << (k++ ? ", " : "") << '"' << code << "\": " << n;

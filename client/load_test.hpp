@@ -30,6 +30,21 @@ struct LatencySummary {
 };
 LatencySummary summarize(std::vector<double> latencies);
 
+// Where a tracked frame's send-to-answer time went, as medians over the window's frames, from the
+// server's timings in each answer: the parts need not add up exactly (medians of different
+// frames). `outside_server`: each frame's send to answer minus its server total, i.e. the client
+// library, gRPC on both ends and the transport, both ways.
+struct LatencyBreakdown {
+  size_t count = 0;
+  double send_to_answer = 0, outside_server = 0, server_total = 0;  // seconds
+  double queue = 0, decode = 0, stages = 0;                         // within the server total
+  double hand_offs = 0;  // server total minus queue, decode and stages: scheduling, response
+};
+struct FrameTiming {  // one tracked frame, seconds
+  double send_to_answer = 0, server_total = 0, queue = 0, decode = 0, stages = 0;
+};
+LatencyBreakdown breakdownOf(const std::vector<FrameTiming>& frames);
+
 struct LoadTestResult {
   int sessions = 0;
   double window_s = 0;
@@ -41,6 +56,7 @@ struct LoadTestResult {
   bool accounting_closed = false;             // sent == answered + unanswered
   // Measurement window: frames sent inside it.
   LatencySummary latency;              // tracked frames (ok/degraded/lost), send to answer
+  LatencyBreakdown breakdown;          // the same frames, send to answer taken apart
   double poses_per_s = 0;              // tracked answers per second, all sessions
   double window_dropped = 0;           // dropped answers in the window
   std::vector<double> sub_window_p50;  // p50 of each third of the window

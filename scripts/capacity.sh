@@ -47,13 +47,15 @@ table() {  # table CSV CORE_MS
   python3 - "$1" "$2" <<'EOF'
 import csv, sys
 core = float(sys.argv[2])
-print("sessions  poses/s   p50 ms   p99 ms  dropped  server CPU ms/frame  minus core ms  tester cores")
+print("sessions  poses/s   p50 ms   p99 ms  dropped  server CPU ms/frame  minus core ms  tester cores"
+      "  outside server ms  server ms")
 for r in csv.DictReader(open(sys.argv[1])):
     cpu = 1e3 * float(r["server_cpu_s_per_tracked_frame"])
     cores = float(r["tester_cpu_s"]) / float(r["step_s"]) if float(r["step_s"]) else 0
     print(f'{int(r["sessions"]):8d} {float(r["poses_per_s"]):8.1f} {1e3*float(r["p50_s"]):8.2f} '
           f'{1e3*float(r["p99_s"]):8.2f} {int(r["dropped"]):8d} {cpu:20.2f} {cpu-core:14.2f} '
-          f'{cores:13.2f}')
+          f'{cores:13.2f} {1e3*float(r["median_outside_server_s"]):18.2f} '
+          f'{1e3*float(r["median_server_total_s"]):10.2f}')
 EOF
 }
 

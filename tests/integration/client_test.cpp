@@ -128,6 +128,15 @@ TEST(ClientTools, LoadTestClosesItsAccountingAndReportsPercentiles) {
   EXPECT_NE(out.find("ms per tracked frame"), std::string::npos) << out;
   const size_t p50_at = json.find("\"p50\": ");
   EXPECT_GT(std::stod(json.substr(p50_at + 7)), 0.0);
+  // Send to answer taken apart with the server's timings: the server's interval lies inside the
+  // client's, and the stages inside the server's.
+  EXPECT_NE(out.find("outside the server"), std::string::npos) << out;
+  const double server_total = jsonNumber(json, "server_total");
+  EXPECT_GT(jsonNumber(json, "outside_server"), 0) << json;
+  EXPECT_GT(server_total, 0) << json;
+  EXPECT_LT(server_total, jsonNumber(json, "send_to_answer")) << json;
+  EXPECT_GT(jsonNumber(json, "stages"), 0) << json;
+  EXPECT_LE(jsonNumber(json, "stages"), server_total) << json;
   const std::string csv = readText(dir + "/load.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2) << csv;  // header + one step
   std::filesystem::remove_all(dir);

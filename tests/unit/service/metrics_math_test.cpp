@@ -39,6 +39,26 @@ TEST(LoadStatistics, HistogramQuantileInterpolatesLikePrometheus) {
   EXPECT_EQ(client::histogramQuantile(0.5, {}), 0);
 }
 
+TEST(LoadStatistics, LatencyBreakdownTakesEachPartsMedianPerFrame) {
+  // Three frames; the medians are per part, and outside_server is per frame (send to answer minus
+  // that frame's server total), not the difference of the two medians.
+  const std::vector<client::FrameTiming> frames = {
+      {0.010, 0.007, 0.000, 0.001, 0.005},
+      {0.030, 0.008, 0.001, 0.001, 0.006},
+      {0.012, 0.011, 0.002, 0.002, 0.004},
+  };
+  const client::LatencyBreakdown b = client::breakdownOf(frames);
+  EXPECT_EQ(b.count, 3u);
+  EXPECT_DOUBLE_EQ(b.send_to_answer, 0.012);
+  EXPECT_DOUBLE_EQ(b.server_total, 0.008);
+  EXPECT_NEAR(b.outside_server, 0.003, 1e-12);  // of 0.003, 0.022, 0.001
+  EXPECT_DOUBLE_EQ(b.queue, 0.001);
+  EXPECT_DOUBLE_EQ(b.decode, 0.001);
+  EXPECT_DOUBLE_EQ(b.stages, 0.005);
+  EXPECT_NEAR(b.hand_offs, 0.001, 1e-12);  // of 0.001, 0.000, 0.003
+  EXPECT_EQ(client::breakdownOf({}).count, 0u);
+}
+
 TEST(MetricsText, ParsesSeriesAndSums) {
   const std::string text =
       "# HELP x_total a counter\n# TYPE x_total counter\n"
