@@ -15,6 +15,16 @@ namespace nidevo::server {
 // is open (nobody waits on an allocation then). True when the allocator supports it (glibc).
 bool releaseFreedMemory();
 
+// glibc hands blocks over its mmap threshold (128 KiB, raised on the fly) straight back to the
+// operating system when freed, and trims a heap's free top over 128 KiB: every 0.9 MB frame
+// message gRPC receives then faults its pages in anew (about 90 page faults per VGA frame, and a
+// request path of 2-4 ms instead of 0.7 ms on one frame in four: README "Load tester and
+// capacity"). Fixed thresholds of kFrameBufferBytes keep those blocks for the next frame; what
+// sessions leave behind is still given back by releaseFreedMemory when none is open. Call once,
+// before the first thread starts. True when the allocator supports it (glibc).
+inline constexpr int kFrameBufferBytes = 32 << 20;  // glibc's largest mmap threshold
+bool keepFrameBuffersMapped();
+
 // Whether malloc is glibc's: a sanitizer's allocator replaces it, and glibc then counts nothing.
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 inline constexpr bool kGlibcHeap = false;

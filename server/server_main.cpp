@@ -316,6 +316,7 @@ int main(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   // Debian's Abseil has deadlock detection on; gRPC's own mutexes pay for it on every lock.
   absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
+  nidevo::server::keepFrameBuffersMapped();
 
   const auto args = nidevo::cli::init(
       argc, argv,
