@@ -21,8 +21,8 @@ bool keepFrameBuffersMapped() {
   if (!kGlibcHeap) return false;
   // Setting either turns off glibc's dynamic thresholds; both are needed (measured: either alone
   // made it worse, 300-390 faults per frame).
-  return mallopt(M_MMAP_THRESHOLD, kFrameBufferBytes) == 1 &&
-         mallopt(M_TRIM_THRESHOLD, 2 * kFrameBufferBytes) == 1;
+  return mallopt(M_MMAP_THRESHOLD, kLargestMappedBlockBytes) == 1 &&
+         mallopt(M_TRIM_THRESHOLD, kKeptFreeTopBytes) == 1;
 #else
   return false;
 #endif

@@ -19,10 +19,13 @@ bool releaseFreedMemory();
 // operating system when freed, and trims a heap's free top over 128 KiB: every 0.9 MB frame
 // message gRPC receives then faults its pages in anew (about 90 page faults per VGA frame, and a
 // request path of 2-4 ms instead of 0.7 ms on one frame in four: README "Load tester and
-// capacity"). Fixed thresholds of kFrameBufferBytes keep those blocks for the next frame; what
-// sessions leave behind is still given back by releaseFreedMemory when none is open. Call once,
-// before the first thread starts. True when the allocator supports it (glibc).
-inline constexpr int kFrameBufferBytes = 32 << 20;  // glibc's largest mmap threshold
+// capacity"). Fixed thresholds keep those blocks for the next frame; what sessions leave behind
+// is still given back by releaseFreedMemory when none is open. Call once, before the first
+// thread starts. True when the allocator supports it (glibc).
+inline constexpr int kLargestMappedBlockBytes = 32 << 20;  // glibc's largest mmap threshold
+// About twice a raw 1280x720 frame message with its receive slices; 64 MiB kept 1-2 MB more per
+// session resident with 8 VGA sessions, for no fewer page faults.
+inline constexpr int kKeptFreeTopBytes = 16 << 20;
 bool keepFrameBuffersMapped();
 
 // Whether malloc is glibc's: a sanitizer's allocator replaces it, and glibc then counts nothing.
