@@ -27,6 +27,9 @@ ABSL_FLAG(std::string, csv, "", "load: also write the results as CSV here");
 ABSL_FLAG(std::string, json, "", "load: also write the results as JSON here");
 ABSL_FLAG(bool, shared_channel, false,
           "load: every session on one channel (one HTTP/2 connection) instead of one channel each");
+ABSL_FLAG(std::string, session_phase, "random",
+          "load: when in the frame period each session sends: random (a phase of its own, as "
+          "independent cameras; the same in every run) or aligned (all at once, the worst case)");
 ABSL_FLAG(std::string, cpus, "",
           "load: pin the load tester to these CPUs (e.g. 0 or 0,2-3), to keep it off the server's");
 
@@ -79,15 +82,20 @@ int loadCommand() {
   config.duration_s = absl::GetFlag(FLAGS_duration_s);
   config.metrics_url = absl::GetFlag(FLAGS_metrics_url);
   config.shared_channel = absl::GetFlag(FLAGS_shared_channel);
+  const std::string phase = absl::GetFlag(FLAGS_session_phase);
+  if (phase != "random" && phase != "aligned")
+    throw std::invalid_argument("--session_phase: 'random' or 'aligned', got '" + phase + "'");
+  config.phase =
+      phase == "aligned" ? LoadTestConfig::Phase::kAligned : LoadTestConfig::Phase::kRandom;
   std::printf(
-      "load: %zu frames of %s (%dx%d, %s) looped, %s per session, %s, %.0f s warm-up + %.0f s "
-      "window per step\n",
+      "load: %zu frames of %s (%dx%d, %s) looped, %s per session (%s phases), %s, %.0f s "
+      "warm-up + %.0f s window per step\n",
       frames.size(), sequence.name.c_str(), sequence.camera.width, sequence.camera.height,
       encodingName().c_str(),
       config.rate_hz > 0 ? (std::to_string(int(config.rate_hz)) + " Hz").c_str()
                          : "as fast as possible",
-      config.shared_channel ? "one shared channel" : "a channel per session", config.warmup_s,
-      config.duration_s);
+      phase.c_str(), config.shared_channel ? "one shared channel" : "a channel per session",
+      config.warmup_s, config.duration_s);
   std::fflush(stdout);
 
   std::vector<LoadTestResult> results;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <random>
 #include <sstream>
 #include <thread>
 #include <unordered_map>
@@ -38,7 +39,8 @@ struct Window {
 
 // `shared`: the one channel of every session, or null for a channel of the session's own.
 void runSession(const LoadTestConfig& config, const std::vector<v1::Frame>& frames,
-                Clock::time_point t0, const Window& window, Client* shared, SessionRun* run) {
+                Clock::time_point first_send, const Window& window, Client* shared,
+                SessionRun* run) {
   std::unique_ptr<Client> own;
   if (!shared) own = std::make_unique<Client>(config.channel);
   Client& client = shared ? *shared : *own;
@@ -97,7 +99,7 @@ void runSession(const LoadTestConfig& config, const std::vector<v1::Frame>& fram
   for (uint64_t i = 0;; ++i) {
     if (config.rate_hz > 0)
       std::this_thread::sleep_until(
-          t0 + std::chrono::microseconds(int64_t(1e6 * double(i) / config.rate_hz)));
+          first_send + std::chrono::microseconds(int64_t(1e6 * double(i) / config.rate_hz)));
     const Clock::time_point now = Clock::now();
     if (now >= window.end) break;
     frame = frames[i % frames.size()];
@@ -118,6 +120,12 @@ double delta(const MetricSamples& after, const MetricSamples& before, const std:
 }
 
 }  // namespace
+
+double sessionPhaseS(LoadTestConfig::Phase phase, int session, double rate_hz) {
+  if (phase == LoadTestConfig::Phase::kAligned || !(rate_hz > 0)) return 0;
+  std::mt19937 random(uint32_t(session) + 1);
+  return std::uniform_real_distribution<double>(0, 1 / rate_hz)(random);
+}
 
 LatencySummary summarize(std::vector<double> v) {
   LatencySummary s;
@@ -193,9 +201,12 @@ LoadTestResult runLoadTest(const LoadTestConfig& config, const std::vector<v1::F
   window.start = t0 + std::chrono::microseconds(int64_t(config.warmup_s * 1e6));
   window.end = window.start + std::chrono::microseconds(int64_t(config.duration_s * 1e6));
   std::vector<std::thread> threads;
-  for (auto& run : runs)
+  for (size_t k = 0; k < runs.size(); ++k) {
+    const auto phase = std::chrono::microseconds(
+        int64_t(1e6 * sessionPhaseS(config.phase, int(k), config.rate_hz)));
     threads.emplace_back(
-        [&, r = &run] { runSession(config, frames, t0, window, shared.get(), r); });
+        [&, k, phase] { runSession(config, frames, t0 + phase, window, shared.get(), &runs[k]); });
+  }
   for (auto& t : threads) t.join();
 
   LoadTestResult result;

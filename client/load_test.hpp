@@ -22,7 +22,16 @@ struct LoadTestConfig {
   // All sessions on one channel (one HTTP/2 connection), as one client process with many
   // streams; otherwise one channel each, as separate devices.
   bool shared_channel = false;
+  // When in its frame period each session sends. Independent cameras are not synchronised:
+  // kRandom gives each session its own phase, uniform over the period and the same in every run
+  // (seeded by the session's index). kAligned sends every session's frame at the same instant,
+  // the worst case, and what this tester did before the choice existed.
+  enum class Phase { kRandom, kAligned };
+  Phase phase = Phase::kRandom;
 };
+
+// Session k's send offset within the frame period, seconds (0 when aligned or unpaced).
+double sessionPhaseS(LoadTestConfig::Phase phase, int session, double rate_hz);
 
 struct LatencySummary {
   size_t count = 0;

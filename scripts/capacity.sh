@@ -10,10 +10,14 @@
 #      that none waits), against the idle server: MB per active session.
 # Raw frames, 2 s warm-up, SECONDS-long windows. Prints tables; the CSVs go to NIDEVO_CAPACITY_OUT.
 # Timing on a shared machine is reported, never judged; the exit code only says the runs worked.
+# NIDEVO_CAPACITY_PHASE: the sessions' send phases, random (default: independent cameras) or
+# aligned (every session's frame at the same instant, the worst case; the tables before
+# 2026-12-03 evening were aligned).
 # Usage: scripts/capacity.sh [SECONDS (8)] [PINNED_MAX (4)] [UNPINNED_MAX (6)] [MEMORY_SESSIONS (8)]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-8}" pinned_max="${2:-4}" unpinned_max="${3:-6}" memory_sessions="${4:-8}"
+phase="${NIDEVO_CAPACITY_PHASE:-random}"
 case "$seconds$pinned_max$unpinned_max$memory_sessions" in
   '' | *[!0-9]*) echo "capacity.sh: arguments must be whole numbers" >&2; exit 2 ;;
 esac
@@ -68,6 +72,7 @@ echo "core: $core_ms ms per frame"
 echo "== pinned: server on CPU 1 (1 worker), load tester on CPU 0, 30 Hz sessions"
 start_server taskset -c 1 build/bin/nidevo-server --workers 1
 build/bin/nidevo-client load --target "$target" --metrics_url "$metrics" --encoding raw --cpus 0 \
+  --session_phase "$phase" \
   --sessions "$(seq -s, 1 "$pinned_max")" --session_rate 30 --warmup_s 2 --duration_s "$seconds" \
   --csv "$out/pinned.csv" >"$out/pinned.txt"
 stop_server
@@ -76,7 +81,7 @@ table "$out/pinned.csv" "$core_ms"
 echo "== unpinned: server (2 workers) and load tester on both CPUs, 30 Hz sessions"
 start_server build/bin/nidevo-server --workers 2
 build/bin/nidevo-client load --target "$target" --metrics_url "$metrics" --encoding raw \
-  --sessions "$(seq -s, 1 "$unpinned_max")" --session_rate 30 --warmup_s 2 \
+  --session_phase "$phase" --sessions "$(seq -s, 1 "$unpinned_max")" --session_rate 30 --warmup_s 2 \
   --duration_s "$seconds" --csv "$out/unpinned.csv" >"$out/unpinned.txt"
 stop_server
 table "$out/unpinned.csv" "$core_ms"

@@ -162,6 +162,9 @@ TEST(ClientTools, LoadTestOnOneSharedChannelPinnedToACpu) {
   EXPECT_GT(jsonNumber(json, "step_s"), 1.9) << json;
   EXPECT_NE(runCommand(load + " --cpus 0-x", &out), 0);
   EXPECT_NE(out.find("--cpus: '0-x'"), std::string::npos) << out;
+  EXPECT_NE(runCommand(load + " --session_phase sometimes", &out), 0);
+  EXPECT_NE(out.find("--session_phase: 'random' or 'aligned', got 'sometimes'"), std::string::npos)
+      << out;
   std::filesystem::remove_all(dir);
 }
 

@@ -1,6 +1,7 @@
 // The load tester's statistics and the metrics text parser, on inputs with known answers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -57,6 +58,23 @@ TEST(LoadStatistics, LatencyBreakdownTakesEachPartsMedianPerFrame) {
   EXPECT_DOUBLE_EQ(b.stages, 0.005);
   EXPECT_NEAR(b.hand_offs, 0.001, 1e-12);  // of 0.001, 0.000, 0.003
   EXPECT_EQ(client::breakdownOf({}).count, 0u);
+}
+
+TEST(LoadStatistics, SessionPhasesSpreadOverThePeriodTheSameInEveryRun) {
+  using Phase = client::LoadTestConfig::Phase;
+  std::vector<double> phases;
+  for (int k = 0; k < 8; ++k) {
+    const double phase = client::sessionPhaseS(Phase::kRandom, k, 30);
+    EXPECT_GE(phase, 0);
+    EXPECT_LT(phase, 1.0 / 30);
+    EXPECT_EQ(phase, client::sessionPhaseS(Phase::kRandom, k, 30));  // reproducible
+    phases.push_back(phase);
+    EXPECT_EQ(client::sessionPhaseS(Phase::kAligned, k, 30), 0);
+    EXPECT_EQ(client::sessionPhaseS(Phase::kRandom, k, 0), 0);  // unpaced: no period
+  }
+  std::sort(phases.begin(), phases.end());
+  EXPECT_EQ(std::unique(phases.begin(), phases.end()), phases.end());  // not all at once
+  EXPECT_GT(phases.back() - phases.front(), 0.5 / 30);                 // spread over the period
 }
 
 TEST(MetricsText, ParsesSeriesAndSums) {
