@@ -110,7 +110,7 @@ void runSession(const LoadTestConfig& config, const std::vector<v1::Frame>& fram
       run->in_flight[i] = now;
       ++run->sent;
     }
-    if (!session->send(frame)) break;
+    if (!session->send(&frame)) break;
   }
   run->status = session->finish();
 }

@@ -172,6 +172,12 @@ bool Session::send(const v1::Frame& frame) {
   return stream_->Write(request_);
 }
 
+bool Session::send(v1::Frame* frame) {
+  if (writes_done_) return false;
+  request_.mutable_frame()->Swap(frame);
+  return stream_->Write(request_);
+}
+
 bool Session::receive(v1::TrackResponse* response) { return stream_->Read(response); }
 
 grpc::Status Session::finish() {

@@ -59,6 +59,9 @@ class Session {
 
   // Blocks while flow control pushes back. False when the stream has ended; finish() says why.
   bool send(const v1::Frame& frame);
+  // The same without copying the frame's bytes (a raw VGA frame is 0.9 MB): `frame` is swapped
+  // into the request, and holds the previous frame's buffers afterwards for reuse.
+  bool send(v1::Frame* frame);
   // Blocking receive, only for sessions opened without a callback. False at the end of stream.
   bool receive(v1::TrackResponse* response);
   // Half-closes, waits for the remaining answers (callback sessions) and returns the status.
