@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "exp_in_place.hpp"
 #include "vector_clones.hpp"
 
 namespace nidevo {
@@ -57,6 +58,13 @@ NIDEVO_VECTOR_CLONES void multiply(const std::complex<float>* a, size_t n,
     z[i] = zr * ar - zi * ai;
     z[i + 1] = zr * ai + zi * ar;
   }
+}
+
+// out[i] = -(squared distance of the shift) / (sigma^2 n), the Gaussian kernel's exponent,
+// from the cross-correlation in out.
+NIDEVO_VECTOR_CLONES void kernelExponents(float sum, float inv_n, float scale, size_t n,
+                                          float* out) {
+  for (size_t i = 0; i < n; ++i) out[i] = std::max(0.f, sum - 2.f * out[i] * inv_n) * scale;
 }
 
 }  // namespace
@@ -140,10 +148,8 @@ void KernelCrossCorrelator::gaussianCorrelation(const std::complex<float>* const
   const float inv_n = float(1.0 / n);  // FFTW's inverse is unnormalised
   const float scale = float(-1.0 / (sigma_ * sigma_ * n));
   const float sum = float(aa + bb);
-  for (size_t i = 0; i < n_real_; ++i) {
-    const float d2 = std::max(0.f, sum - 2.f * out[i] * inv_n);
-    out[i] = std::exp(d2 * scale);
-  }
+  kernelExponents(sum, inv_n, scale, n_real_, out);
+  expInPlace(out, n_real_);
 }
 
 void KernelCrossCorrelator::train(const float* const* channels) {
