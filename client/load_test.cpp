@@ -26,9 +26,8 @@ struct SessionRun {
   std::mutex mutex;
   std::unordered_map<uint64_t, Clock::time_point> in_flight;  // sequence -> send time
   uint64_t sent = 0, ok = 0, degraded = 0, lost = 0, dropped = 0, error = 0;
-  std::vector<double> latencies;               // tracked, sent in the window
-  std::vector<FrameTiming> timings;            // the same frames with the server's timings
-  std::vector<std::vector<double>> thirds{3};  // the same, by third of the window
+  std::vector<FrameTiming> timings;            // tracked, sent in the window, with server timings
+  std::vector<std::vector<double>> thirds{3};  // their send to answer, by third of the window
   uint64_t window_tracked = 0, window_dropped = 0;
   grpc::Status status;
 };
@@ -77,7 +76,6 @@ void runSession(const LoadTestConfig& config, const std::vector<v1::Frame>& fram
     if (sent_at < window.start || sent_at >= window.end) return;
     if (tracked) {
       const double latency = seconds(now - sent_at);
-      run->latencies.push_back(latency);
       const v1::ServerTimings& t = r.timings();
       run->timings.push_back({latency, t.total(), t.queue(), t.decode(),
                               t.normals() + t.rotation() + t.translation()});
@@ -214,7 +212,6 @@ LoadTestResult runLoadTest(const LoadTestConfig& config, const std::vector<v1::F
   result.step_s = seconds(Clock::now() - step_start);
   result.sessions = config.sessions;
   result.window_s = config.duration_s;
-  std::vector<double> latencies;
   std::vector<FrameTiming> timings;
   std::vector<std::vector<double>> thirds(3);
   uint64_t window_tracked = 0;
@@ -227,7 +224,6 @@ LoadTestResult runLoadTest(const LoadTestConfig& config, const std::vector<v1::F
     result.error += run.error;
     result.unanswered += run.in_flight.size();
     ++result.session_status[statusCodeName(run.status.error_code())];
-    latencies.insert(latencies.end(), run.latencies.begin(), run.latencies.end());
     timings.insert(timings.end(), run.timings.begin(), run.timings.end());
     for (size_t k = 0; k < 3; ++k)
       thirds[k].insert(thirds[k].end(), run.thirds[k].begin(), run.thirds[k].end());
@@ -237,7 +233,10 @@ LoadTestResult runLoadTest(const LoadTestConfig& config, const std::vector<v1::F
   const uint64_t answered =
       result.ok + result.degraded + result.lost + result.dropped + result.error;
   result.accounting_closed = result.sent == answered + result.unanswered;
-  result.latency = summarize(latencies);
+  std::vector<double> latencies;
+  latencies.reserve(timings.size());
+  for (const FrameTiming& f : timings) latencies.push_back(f.send_to_answer);
+  result.latency = summarize(std::move(latencies));
   result.breakdown = breakdownOf(timings);
   result.poses_per_s = double(window_tracked) / config.duration_s;
   double lo = std::numeric_limits<double>::infinity(), hi = 0;

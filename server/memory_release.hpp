@@ -23,8 +23,8 @@ bool releaseFreedMemory();
 // is still given back by releaseFreedMemory when none is open. Call once, before the first
 // thread starts. True when the allocator supports it (glibc).
 inline constexpr int kLargestMappedBlockBytes = 32 << 20;  // glibc's largest mmap threshold
-// About twice a raw 1280x720 frame message with its receive slices; 64 MiB kept 1-2 MB more per
-// session resident with 8 VGA sessions, for no fewer page faults.
+// Room for a raw 1280x720 frame message (4.6 MB) with its receive slices; 64 MiB kept 1-2 MB more
+// per session resident with 8 VGA sessions, for no fewer page faults.
 inline constexpr int kKeptFreeTopBytes = 16 << 20;
 bool keepFrameBuffersMapped();
 
