@@ -96,11 +96,16 @@ def relative(qa, qb):
     return multiply(conjugate(qa), qb)
 
 
+def nearest_rank(sorted_values, q):
+    v = sorted_values
+    return v[min(len(v), max(1, math.ceil(q * len(v)))) - 1]
+
+
 def summary(values):
     v = sorted(values)
     if not v:
         return "no frames"
-    rank = lambda q: v[min(len(v), max(1, math.ceil(q * len(v)))) - 1]
+    rank = lambda q: nearest_rank(v, q)
     rmse = math.sqrt(sum(x * x for x in v) / len(v))
     return (f"median {rank(0.5):.3f}  p95 {rank(0.95):.3f}  rmse {rmse:.3f}  max {v[-1]:.2f} deg"
             f"  (over 2 deg: {sum(x > 2 for x in v)} of {len(v)})")
@@ -159,8 +164,8 @@ def main(argv):
         for (lo, hi), values in by_speed.items():
             v = sorted(values)
             if v:
-                rank = lambda q: v[min(len(v), max(1, math.ceil(q * len(v)))) - 1]
-                parts.append(f"[{lo:g}, {hi:g}) n={len(v)} median {rank(0.5):.2f} p90 {rank(0.9):.2f}")
+                parts.append(f"[{lo:g}, {hi:g}) n={len(v)} median {nearest_rank(v, 0.5):.2f} "
+                             f"p90 {nearest_rank(v, 0.9):.2f}")
         print("  interpolated, by true rotation per frame (deg): " + "; ".join(parts))
     return 0
 

@@ -39,8 +39,8 @@ constexpr double kPoly1 = 0x1.ebfce50fac4f3p-3 / 32 / 32;
 constexpr double kPoly2 = 0x1.62e42ff0c52d6p-1 / 32;
 constexpr uint32_t kSpecialTop12 = 0x42b;  // top 12 bits of 88.0f: glibc's own branch from here
 
-// Only intrinsics in here, each rounding once as glibc's FMA build does (its fused steps are the
-// _fmadd/_fmsub ones), so the compiler has nothing to contract.
+// Each step rounds once where glibc's FMA build does (its fused steps are the _fmadd/_fmsub ones);
+// the file is built with -ffp-contract=off so the compiler fuses nothing else.
 __attribute__((target("avx2,fma"))) __m128 expFour(__m128 x) {
   const __m256d xd = _mm256_cvtps_pd(x);
   const __m256d inv_ln2 = _mm256_set1_pd(kInvLn2Scaled), shift = _mm256_set1_pd(kShift);
@@ -100,10 +100,7 @@ bool expInPlaceIsVectorised() {
 
 void expInPlace(float* values, size_t n) {
 #ifdef NIDEVO_EXP_AVX2
-  if (cpuRunsGlibcFmaExp()) {
-    vectorExp(values, n);
-    return;
-  }
+  if (expInPlaceIsVectorised()) return vectorExp(values, n);
 #endif
   scalarExp(values, n);
 }
