@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <tuple>
 
@@ -192,6 +193,59 @@ TEST(Kcc, AClearlyHigherPeakWinsWhereverThePriorIs) {
   EXPECT_EQ(m.du, 3);
   EXPECT_EQ(m.dv, -7);
   EXPECT_EQ(m.rival_peaks, 0);
+}
+
+// The peak the match reports is the first largest cell of its response, as a plain walk finds
+// it; with a prior, the nearest of the strong local maxima and the rivals a plain walk counts.
+TEST(Kcc, PeakAndRivalsAreThoseOfAPlainWalkOverTheResponse) {
+  KernelCrossCorrelator kcc(kW, kH, 1, 0.2, 0.1);
+  const auto x = tiles();
+  const float* key[] = {x.data()};
+  kcc.train(key);
+  const auto z = circularShift(x, 4, -3);
+  const float* cur[] = {z.data()};
+  const int exclusion = 5;
+  for (const std::optional<KccShiftPrior>& prior :
+       {std::optional<KccShiftPrior>(), std::optional(KccShiftPrior{-15, 20, 0.9}),
+        std::optional(KccShiftPrior{30, -40, 0.2})}) {  // 0.2: side lobes count too
+    const KccMatch m = kcc.match(cur, false, exclusion, prior ? &*prior : nullptr);
+    const float* r = kcc.response();
+    const size_t n = size_t(kW) * kH;
+    size_t best = 0;
+    for (size_t i = 1; i < n; ++i)
+      if (r[i] > r[best]) best = i;
+    auto at = [&](int u, int v) { return r[size_t((v + kH) % kH) * kW + size_t((u + kW) % kW)]; };
+    auto localMax = [&](int u, int v) {
+      for (int y = -1; y <= 1; ++y)
+        for (int x2 = -1; x2 <= 1; ++x2)
+          if ((x2 || y) && at(u + x2, v + y) > at(u, v)) return false;
+      return true;
+    };
+    auto shift = [](int c, int size) { return c > size / 2 ? c - size : c; };
+    auto d2 = [&](size_t i, double du, double dv) {
+      double dx = std::abs(shift(int(i % kW), kW) - du), dy = std::abs(shift(int(i / kW), kH) - dv);
+      dx = std::min(dx, kW - dx), dy = std::min(dy, kH - dy);
+      return dx * dx + dy * dy;
+    };
+    int rivals = 0;
+    if (prior) {
+      const float floor = float(prior->ratio) * r[best];
+      size_t chosen = best;
+      for (size_t i = 0; i < n; ++i)
+        if (!(r[i] < floor) && localMax(int(i % kW), int(i / kW)) &&
+            d2(i, prior->du, prior->dv) < d2(chosen, prior->du, prior->dv))
+          chosen = i;
+      const double cu = shift(int(chosen % kW), kW), cv = shift(int(chosen / kW), kH);
+      for (size_t i = 0; i < n; ++i)
+        if (!(r[i] < floor) && localMax(int(i % kW), int(i / kW)) &&
+            d2(i, cu, cv) > double(exclusion) * exclusion)
+          ++rivals;
+      best = chosen;
+    }
+    EXPECT_EQ(m.du, shift(int(best % kW), kW));
+    EXPECT_EQ(m.dv, shift(int(best / kW), kH));
+    EXPECT_EQ(m.rival_peaks, rivals);
+  }
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "nidevo/odometry/depth_shift.hpp"
 #include "nidevo/odometry/odometry_config.hpp"
@@ -66,6 +68,95 @@ TEST(DepthShift, IgnoresOutliersAndReportsNoMatchOnEmptyImages) {
   OrthoImage empty = field(0, 0, 0);
   std::fill(empty.depth.begin(), empty.depth.end(), 0.f);
   EXPECT_EQ(estimator.estimate(key, empty, 0, 0, params).inliers, 0);
+}
+
+// Eq. 18's collection as first written, a branch per test and cell, then the median and the
+// inlier means: the estimator's branch-free collection must give the same bits.
+DepthShift referenceDepthShift(const OrthoImage& key, const OrthoImage& cur, double du, double dv,
+                               const DepthShiftParams& p) {
+  const int W = key.width, H = key.height;
+  std::vector<float> diffs;
+  const int iu = int(std::floor(du)), iv = int(std::floor(dv));
+  const float fu = float(du - iu), fv = float(dv - iv);
+  const float slope_limit = p.max_slope > 0 ? float(2.0 * p.resolution * p.max_slope) : 0.f;
+  const float w00 = (1 - fu) * (1 - fv), w10 = fu * (1 - fv), w01 = (1 - fu) * fv, w11 = fu * fv;
+  const int step = std::max(1, p.sample_step);
+  for (int v = std::max(0, -iv); v < std::min(H, H - iv - 1); v += step) {
+    for (int u = std::max(0, -iu); u < std::min(W, W - iu - 1); u += step) {
+      const size_t k = size_t(v) * size_t(W) + size_t(u);
+      const float zk = key.depth[k];
+      if (zk <= 0.f) continue;
+      if (slope_limit > 0.f) {
+        if (u == 0 || v == 0 || u == W - 1 || v == H - 1) continue;
+        const float zl = key.depth[k - 1], zr = key.depth[k + 1], zt = key.depth[k - size_t(W)],
+                    zb = key.depth[k + size_t(W)];
+        if (zl <= 0.f || zr <= 0.f || zt <= 0.f || zb <= 0.f) continue;
+        if (std::abs(zr - zl) > slope_limit || std::abs(zb - zt) > slope_limit) continue;
+      }
+      const size_t c = size_t(v + iv) * size_t(W) + size_t(u + iu);
+      const float z00 = cur.depth[c], z10 = cur.depth[c + 1], z01 = cur.depth[c + size_t(W)],
+                  z11 = cur.depth[c + size_t(W) + 1];
+      if (z00 <= 0.f || z10 <= 0.f || z01 <= 0.f || z11 <= 0.f) continue;
+      const float zc = w00 * z00 + w10 * z10 + w01 * z01 + w11 * z11;
+      const float gc = w00 * cur.gray[c] + w10 * cur.gray[c + 1] + w01 * cur.gray[c + size_t(W)] +
+                       w11 * cur.gray[c + size_t(W) + 1];
+      if (std::abs(gc - key.gray[k]) >= p.gray_tolerance) continue;
+      diffs.push_back(zk - zc);
+    }
+  }
+  DepthShift r;
+  if (diffs.empty()) return r;
+  std::vector<float> sorted = diffs;
+  std::nth_element(sorted.begin(), sorted.begin() + long(diffs.size() / 2), sorted.end());
+  double dz = sorted[diffs.size() / 2];
+  for (int it = 0; it < p.iterations; ++it) {
+    double sum = 0;
+    int count = 0;
+    for (float d : diffs) {
+      if (std::abs(d - dz) < p.inlier_m) {
+        sum += d;
+        ++count;
+      }
+    }
+    if (count == 0) break;
+    dz = sum / count;
+    r.inliers = count;
+  }
+  r.dz = dz;
+  return r;
+}
+
+TEST(DepthShift, EqualsThePlainPerCellComputationBitForBit) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  DepthShiftEstimator estimator;
+  for (int sample_step : {1, 2}) {
+    OdometryConfig config;
+    config.depth_sample_step = sample_step;
+    DepthShiftParams params = depthShiftParams(config);
+    params.resolution = 0.01;
+    for (auto [su, sv] : {std::pair{0.0, 0.0}, {2.3, -1.6}, {-4.7, 3.2}, {119.5, 0.0}}) {
+      const OrthoImage key = field(0, 0, 0);
+      OrthoImage cur = field(su, sv, -0.03);
+      OrthoImage holed_key = key;
+      // Holes, steps, outliers and grey changes: every test of Eq. 18 decides somewhere.
+      for (size_t i = 0; i < cur.depth.size(); ++i) {
+        const float a = unit(rng), b = unit(rng);
+        if (a < 0.08f) holed_key.depth[i] = 0.f;
+        if (a > 0.95f) holed_key.depth[i] += 0.3f;
+        if (b < 0.06f) cur.depth[i] = 0.f;
+        if (b > 0.9f) cur.depth[i] += 0.2f * unit(rng);
+        if (b > 0.5f && b < 0.55f) cur.gray[i] += 0.3f;
+      }
+      const DepthShift fast = estimator.estimate(holed_key, cur, su, sv, params);
+      const DepthShift plain = referenceDepthShift(holed_key, cur, su, sv, params);
+      EXPECT_EQ(fast.inliers, plain.inliers) << su << "," << sv << " step " << sample_step;
+      EXPECT_EQ(fast.dz, plain.dz) << su << "," << sv << " step " << sample_step;
+      if (su < 100) {
+        EXPECT_GT(plain.inliers, 100);
+      }
+    }
+  }
 }
 
 // A cloud held as the projector takes it: one array per coordinate.

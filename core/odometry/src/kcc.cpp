@@ -8,6 +8,10 @@
 #include <stdexcept>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "exp_in_place.hpp"
 #include "vector_clones.hpp"
 
@@ -65,6 +69,58 @@ NIDEVO_VECTOR_CLONES void multiply(const std::complex<float>* a, size_t n,
 NIDEVO_VECTOR_CLONES void kernelExponents(float sum, float inv_n, float scale, size_t n,
                                           float* out) {
   for (size_t i = 0; i < n; ++i) out[i] = std::max(0.f, sum - 2.f * out[i] * inv_n) * scale;
+}
+
+// The first index of the largest value, as a scalar walk keeping the first of equal maxima
+// finds it; four at a time (the maximum of floats is exact, so the walk's answer is the first
+// index holding it). With a NaN anywhere the scalar walk decides, whose comparisons skip it.
+size_t firstMaximum(const float* x, size_t n) {
+  auto scalar = [&] {
+    size_t best = 0;
+    for (size_t i = 1; i < n; ++i)
+      if (x[i] > x[best]) best = i;
+    return best;
+  };
+#if defined(__SSE2__)
+  if (n < 8) return scalar();
+  __m128 top = _mm_loadu_ps(x), unordered = _mm_cmpunord_ps(top, top);
+  size_t i = 4;
+  for (; i + 4 <= n; i += 4) {
+    const __m128 v = _mm_loadu_ps(x + i);
+    unordered = _mm_or_ps(unordered, _mm_cmpunord_ps(v, v));
+    top = _mm_max_ps(top, v);
+  }
+  float lanes[4];
+  _mm_storeu_ps(lanes, top);
+  float largest = std::max(std::max(lanes[0], lanes[1]), std::max(lanes[2], lanes[3]));
+  bool nan = _mm_movemask_ps(unordered) != 0;
+  for (; i < n; ++i) nan = nan || std::isnan(x[i]), largest = std::max(largest, x[i]);
+  if (nan) return scalar();
+  for (size_t k = 0; k < n; ++k)
+    if (x[k] == largest) return k;
+  return 0;
+#else
+  return scalar();
+#endif
+}
+
+// visit(i) for every i with !(x[i] < floor), in order: the cells above a floor that only the
+// tops of the strongest peaks reach, found four at a time.
+template <class Visit>
+void forEachNotBelow(const float* x, size_t n, float floor, Visit&& visit) {
+  size_t i = 0;
+#if defined(__SSE2__)
+  const __m128 f = _mm_set1_ps(floor);
+  for (; i + 4 <= n; i += 4) {
+    int bits = _mm_movemask_ps(_mm_cmpnlt_ps(_mm_loadu_ps(x + i), f));
+    while (bits != 0) {
+      visit(i + size_t(__builtin_ctz(unsigned(bits))));
+      bits &= bits - 1;
+    }
+  }
+#endif
+  for (; i < n; ++i)
+    if (!(x[i] < floor)) visit(i);
 }
 
 }  // namespace
@@ -170,9 +226,7 @@ KccMatch KernelCrossCorrelator::match(const float* const* channels, bool subpixe
                                       int psr_exclusion, const KccShiftPrior* prior) {
   correlate(channels);
   const int W = width_;
-  size_t best = 0;
-  for (size_t i = 1; i < n_real_; ++i)
-    if (response_[i] > response_[best]) best = i;
+  size_t best = firstMaximum(response_, n_real_);
   KccMatch m;
   if (prior) best = peakNearPrior(best, *prior, psr_exclusion, &m.rival_peaks);
   const int pu = int(best % size_t(W)), pv = int(best / size_t(W));
@@ -218,11 +272,10 @@ size_t KernelCrossCorrelator::peakNearPrior(size_t best, const KccShiftPrior& pr
     return dx * dx + dy * dy;
   };
   auto forEachStrongMaximum = [&](auto&& visit) {
-    for (size_t i = 0; i < n_real_; ++i) {
-      if (response_[i] < floor) continue;
+    forEachNotBelow(response_, n_real_, floor, [&](size_t i) {
       const int u = int(i % size_t(W)), v = int(i / size_t(W));
       if (isLocalMaximum(u, v)) visit(i, u, v);
-    }
+    });
   };
   size_t chosen = best;
   double chosen_d2 = distance2(int(best % size_t(W)), int(best / size_t(W)), prior.du, prior.dv);
