@@ -2,7 +2,7 @@
 # Runs nidevo-run on the stress suite's sequences (build/stress/stress_*, rendered by
 # scripts/stress_suite.sh) and on the real clip, one per-frame CSV each, then prints per sequence
 # the ATE, the OK share and the silent failures, and the per-status error table over the suite
-# and over the real clip. Extra arguments go to nidevo-run (e.g. --align_photometric_weight 0).
+# and over the real clip (as recorded, and every 2nd and 3rd frame: two and three times as fast). Extra arguments go to nidevo-run (e.g. --align_photometric_weight 0).
 # Usage: scripts/status_suite.sh [nidevo-run flags...]   (NIDEVO_STATUS_OUT: CSV folder,
 # default build/status; NIDEVO_STATUS_SUITE: the sequences' folder, default build/stress;
 # NIDEVO_STATUS_BIN: the folder of the nidevo-run to measure, default build/bin, e.g. an older
@@ -31,10 +31,17 @@ for dir in "$suite_dir"/stress_*/; do
   run "$name" --dataset "$dir" "$@"
   suite+=("$out/$name.csv")
 done
-[ -d "$real" ] && run tum_fr1_rpy --dataset "$real" --camera tum_fr1 "$@"
+if [ -d "$real" ]; then
+  run tum_fr1_rpy --dataset "$real" --camera tum_fr1 "$@"
+  # The same recording two and three times as fast: every 2nd and 3rd frame.
+  run tum_fr1_rpy_x2 --dataset "$real" --camera tum_fr1 --frame_step 2 "$@"
+  run tum_fr1_rpy_x3 --dataset "$real" --camera tum_fr1 --frame_step 3 "$@"
+fi
 if [ ${#suite[@]} -gt 0 ]; then
   echo; echo "stress suite (${#suite[@]} sequences):"; python3 scripts/status_table.py "${suite[@]}"
 fi
 if [ -d "$real" ]; then
   echo; echo "real clip:"; python3 scripts/status_table.py "$out/tum_fr1_rpy.csv"
+  echo; echo "real clip, two and three times as fast:"
+  python3 scripts/status_table.py "$out/tum_fr1_rpy_x2.csv" "$out/tum_fr1_rpy_x3.csv"
 fi

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The randomized stress suite: renders sequences 0..COUNT-1 (nidevo-synth --stress K) into
 # build/stress/ once (two at a time; kept and reused), then runs nidevo-bench on all of them and,
-# with --with-real, on the real clip too. Results: build/stress/results.{csv,json}, log.txt.
+# with --with-real, on the real clip too, and on the clip two and three times as fast (every 2nd
+# and 3rd frame). Results: build/stress/results.{csv,json}, real_x2.csv, real_x3.csv, log.txt.
 # Usage: scripts/stress_suite.sh [COUNT=20] [--methods LIST] [--with-real]
 # (Build first: scripts/build.sh; with the peers: scripts/setup.sh --bench.)
 set -euo pipefail
@@ -38,4 +39,11 @@ for k in $(seq 0 $((count - 1))); do datasets+=("$(printf '%s/stress_%02d' "$out
 list=$(IFS=,; echo "${datasets[*]}")
 build/bin/nidevo-bench --scenes "" --datasets "$list" "${methods[@]}" \
   --csv "$out/results.csv" --json "$out/results.json" | tee "$out/log.txt"
+if [ ${#datasets[@]} -gt $count ]; then
+  # The real clip two and three times as fast (every 2nd and 3rd frame), with the same methods.
+  for step in 2 3; do
+    build/bin/nidevo-bench --scenes "" --datasets "${datasets[0]}" --frame_step "$step" \
+      "${methods[@]}" --csv "$out/real_x$step.csv" | tee -a "$out/log.txt"
+  done
+fi
 echo "stress_suite: benchmark took $(($(date +%s) - rendered)) s"

@@ -86,5 +86,33 @@ TEST(LoadSequence, NamesThePresetTheFoldersNameImplied) {
   EXPECT_EQ(seq.camera_source, "preset tum_fr3 (from the folder's name)");
 }
 
+TEST(LoadSequence, FrameStepTakesEveryNthFrameWithItsOwnGroundTruth) {
+  synth::SequenceConfig config;
+  config.camera = cameraPreset("icl")->subsampled(4);
+  config.frames = 7;
+  const fs::path dir = fs::temp_directory_path() / "nidevo_loader_test" / "icl_step";
+  fs::remove_all(dir);
+  synth::SyntheticSequence(config).writeTumFolder(dir.string());
+  SequenceSource src;
+  src.dataset = dir.string();
+  const LoadedSequence all = loadSequence(src);
+  ASSERT_EQ(all.frames.size(), 7u);
+  src.frame_step = 3;
+  const LoadedSequence stepped = loadSequence(src);
+  EXPECT_EQ(stepped.frame_step, 3u);
+  ASSERT_EQ(stepped.frames.size(), 3u);  // frames 0, 3 and 6
+  ASSERT_EQ(stepped.ground_truth.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(stepped.frames[i].timestamp, all.frames[3 * i].timestamp);
+    EXPECT_EQ(stepped.frames[i].depth.data, all.frames[3 * i].depth.data);
+    EXPECT_EQ(stepped.ground_truth[i].timestamp, stepped.frames[i].timestamp);
+    EXPECT_TRUE(stepped.ground_truth[i].pose().isApprox(all.ground_truth[3 * i].pose()));
+  }
+  src.max_frames = 2;  // counted after the step
+  EXPECT_EQ(loadSequence(src).frames.size(), 2u);
+  src.frame_step = 0;
+  EXPECT_THROW(loadSequence(src), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace nidevo::cli

@@ -98,20 +98,23 @@ LoadedSequence loadSequence(const SequenceSource& src) {
     auto [preset, camera_source] = std::filesystem::exists(file)
                                        ? std::pair(Camera{}, file.string())
                                        : datasetPreset(src.dataset, src.camera);
+    if (src.frame_step < 1) throw std::invalid_argument("frame step must be at least 1");
     TumDataset ds(src.dataset, preset);
-    size_t n = ds.size();
+    const size_t step = src.frame_step;
+    size_t n = (ds.size() + step - 1) / step;
     if (src.max_frames) n = std::min(n, src.max_frames);
     out.name = src.dataset;
     out.camera = ds.camera();
     out.camera_source = camera_source;
+    out.frame_step = step;
     out.frames.resize(n);
-    parallelFor(n, [&](size_t i) { out.frames[i] = ds.loadFrame(i); });
-    for (size_t i = 0; i < n; ++i) {
-      if (ds.entry(i).ground_truth) out.ground_truth.push_back(*ds.entry(i).ground_truth);
-    }
+    parallelFor(n, [&](size_t i) { out.frames[i] = ds.loadFrame(i * step); });
     // Timestamps of the ground truth are the frames' own, so evaluation matches them exactly.
-    for (size_t i = 0, k = 0; i < n && k < out.ground_truth.size(); ++i) {
-      if (ds.entry(i).ground_truth) out.ground_truth[k++].timestamp = out.frames[i].timestamp;
+    for (size_t i = 0; i < n; ++i) {
+      if (const auto& truth = ds.entry(i * step).ground_truth) {
+        out.ground_truth.push_back(*truth);
+        out.ground_truth.back().timestamp = out.frames[i].timestamp;
+      }
     }
     return out;
   }

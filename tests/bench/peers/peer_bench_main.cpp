@@ -33,6 +33,9 @@ ABSL_FLAG(std::string, datasets, "", "TUM/ICL-NUIM folders, comma-separated");
 ABSL_FLAG(std::string, camera, "auto",
           "Camera preset of a dataset folder without camera.txt (auto: the one its name implies)");
 ABSL_FLAG(int, max_frames, 0, "At most this many frames of each dataset (0: all)");
+ABSL_FLAG(int, frame_step, 1,
+          "Every n-th frame of each dataset: the recording with the camera n times as fast "
+          "(named with _xN)");
 ABSL_FLAG(std::string, methods, "",
           "Methods to run, comma-separated (default: nidevo and every peer of this build)");
 ABSL_FLAG(std::string, csv, "", "Write the results as CSV here");
@@ -73,6 +76,9 @@ std::vector<nidevo::cli::SequenceSource> sequencesFromFlags() {
     src.dataset = std::string(dir);
     src.camera = absl::GetFlag(FLAGS_camera);
     src.max_frames = size_t(std::max(0, absl::GetFlag(FLAGS_max_frames)));
+    if (absl::GetFlag(FLAGS_frame_step) < 1)
+      throw std::invalid_argument("--frame_step: must be at least 1");
+    src.frame_step = size_t(absl::GetFlag(FLAGS_frame_step));
     out.push_back(src);
   }
   return out;
@@ -95,10 +101,12 @@ std::vector<std::unique_ptr<Method>> methodsFromFlags() {
   return chosen;
 }
 
-// A dataset is named by its folder's last component.
-std::string displayName(const std::string& name) {
-  const std::filesystem::path path(name);
-  return std::filesystem::is_directory(path) ? path.filename().string() : name;
+// A dataset is named by its folder's last component, and _xN when every N-th frame was used.
+std::string displayName(const nidevo::cli::LoadedSequence& seq) {
+  const std::filesystem::path path(seq.name);
+  if (!std::filesystem::is_directory(path)) return seq.name;
+  const std::string folder = path.filename().string();
+  return seq.frame_step > 1 ? folder + "_x" + std::to_string(seq.frame_step) : folder;
 }
 
 // A file-system-safe tag of a sequence's name.
@@ -114,7 +122,7 @@ MethodRun runMethod(Method& method, const nidevo::cli::LoadedSequence& seq) {
   std::vector<bool> good;
   std::vector<double> ms;
   MethodRun run;
-  run.sequence = displayName(seq.name);
+  run.sequence = displayName(seq);
   run.method = method.name();
   run.frames = seq.frames.size();
   for (const auto& frame : seq.frames) {

@@ -17,6 +17,7 @@ struct LoadedSequence {
   std::string camera_source;  // where the camera came from, for the user to check
   std::vector<RgbdFrame> frames;
   Trajectory ground_truth;  // empty when the source has none
+  size_t frame_step = 1;    // every frame_step-th frame of the folder was loaded
 };
 
 inline constexpr const char* kAutoCamera = "auto";
@@ -32,7 +33,10 @@ struct SequenceSource {
   // Preset for a synthetic scene ("auto": icl), or for a folder without camera.txt ("auto":
   // the preset the folder's name implies, else an error).
   std::string camera = kAutoCamera;
-  size_t max_frames = 0;  // 0: all
+  size_t max_frames = 0;  // 0: all (counted after frame_step)
+  // Every n-th frame of a dataset folder, from its first: the same recording with the camera
+  // moving n times as fast (or a sensor at 1/n of its rate), ground truth included.
+  size_t frame_step = 1;
 };
 
 // Throws std::exception with a message naming what is wrong.
