@@ -4,7 +4,8 @@
 #      pinned to CPU 1 (nidevo-run), ms per frame;
 #   2. pinned: the server on CPU 1 with one worker, the load tester on CPU 0, 30 Hz sessions
 #      1..PINNED_MAX: p99 and the server's CPU ms per tracked frame (process_cpu_seconds_total),
-#      against the core's ms per frame;
+#      against the core's ms per frame, and against the server's own stage time (the odometry as
+#      it runs in the server, between other sessions' frames: "minus stages" is the path around it);
 #   3. unpinned: the server (2 workers) and the load tester sharing both cores, 1..UNPINNED_MAX;
 #   4. memory: resident size and heap in use with MEMORY_SESSIONS sessions open (at 5 Hz, so
 #      that none waits), against the idle server: MB per active session.
@@ -52,14 +53,15 @@ table() {  # table CSV CORE_MS
 import csv, sys
 core = float(sys.argv[2])
 print("sessions  poses/s   p50 ms   p99 ms  dropped  server CPU ms/frame  minus core ms  tester cores"
-      "  outside server ms  server ms")
+      "  outside server ms  server ms  stages ms  minus stages ms")
 for r in csv.DictReader(open(sys.argv[1])):
     cpu = 1e3 * float(r["server_cpu_s_per_tracked_frame"])
     cores = float(r["tester_cpu_s"]) / float(r["step_s"]) if float(r["step_s"]) else 0
+    stages = 1e3 * float(r["median_stages_s"])
     print(f'{int(r["sessions"]):8d} {float(r["poses_per_s"]):8.1f} {1e3*float(r["p50_s"]):8.2f} '
           f'{1e3*float(r["p99_s"]):8.2f} {int(r["dropped"]):8d} {cpu:20.2f} {cpu-core:14.2f} '
           f'{cores:13.2f} {1e3*float(r["median_outside_server_s"]):18.2f} '
-          f'{1e3*float(r["median_server_total_s"]):10.2f}')
+          f'{1e3*float(r["median_server_total_s"]):10.2f} {stages:10.2f} {cpu-stages:16.2f}')
 EOF
 }
 
