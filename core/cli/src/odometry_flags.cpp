@@ -97,6 +97,9 @@ ABSL_FLAG(
     "A direction the data leave free may take the motion prediction's value, and the frame "
     "be OK, when the prediction's RMS error over this many recent verified frames is within "
     "--prediction_trust_deg and --prediction_trust_m, and the pose as close to it (0: never)");
+ABSL_FLAG(int, unverified_motion_min_directions, kDefaults.unverified_motion_min_directions,
+          "A pose not verified that passed the check from the prediction with at least this many "
+          "of 6 directions fixed by depth updates the motion model's velocity (7: never)");
 ABSL_FLAG(int, prediction_trust_gap, kDefaults.prediction_trust_gap,
           "... the latest of those frames at most this many frames back");
 ABSL_FLAG(double, prediction_trust_deg,
@@ -148,6 +151,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.prediction_trust_gap = absl::GetFlag(FLAGS_prediction_trust_gap);
   c.prediction_trust_rad = float(absl::GetFlag(FLAGS_prediction_trust_deg) * M_PI / 180);
   c.prediction_trust_m = float(absl::GetFlag(FLAGS_prediction_trust_m));
+  c.unverified_motion_min_directions = absl::GetFlag(FLAGS_unverified_motion_min_directions);
   if (auto e = c.validate(); !e.empty()) throw std::invalid_argument(e);
   return c;
 }

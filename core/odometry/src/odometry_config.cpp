@@ -96,6 +96,8 @@ std::string OdometryConfig::validate() const {
   if (prediction_trust_gap < 1) return "prediction_trust_gap must be at least 1";
   if (!in(prediction_trust_rad, 0, 3.2)) return "prediction_trust_rad must be in [0, 3.2]";
   if (!in(prediction_trust_m, 0, 10)) return "prediction_trust_m must be in [0, 10]";
+  if (unverified_motion_min_directions < 1 || unverified_motion_min_directions > 7)
+    return "unverified_motion_min_directions must be in 1..7";
   if (!in(min_valid_depth_fraction, 0, 1)) return "min_valid_depth_fraction must be in [0, 1]";
   if (max_degraded_frames < 1) return "max_degraded_frames must be at least 1";
   return {};

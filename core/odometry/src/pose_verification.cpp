@@ -147,7 +147,14 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     v.prediction.verified(predicted, best.T_ref_cur);
   else
     v.prediction.unverified();
-  v.motion.update(out->T_world_cam, verified, s.timestamp);
+  // Yet a pose refined from the prediction that passed measured the directions depth fixed, and
+  // holds the prediction's value (or the grey values') along the rest: without it the velocity
+  // would decay to standing still over a stretch the data say is a turn. Whatever its status,
+  // so that the status rules never change a pose.
+  const bool measured_from_prediction =
+      hypothesis == names[1] && out->verification.passed &&
+      out->verification.depth_constrained_directions >= config_.unverified_motion_min_directions;
+  v.motion.update(out->T_world_cam, verified || measured_from_prediction, s.timestamp);
   // A frame not verified renews the reference, so that the next frames are checked against what
   // is in view: a stale reference would leave every later frame unverifiable.
   if (!verified || best.overlapFraction() < config_.reference_min_overlap ||

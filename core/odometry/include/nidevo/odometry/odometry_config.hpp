@@ -123,6 +123,14 @@ struct OdometryConfig {
   int prediction_trust_gap = 3;
   float prediction_trust_rad = 0.0052359878f;  // 0.3 deg
   float prediction_trust_m = 0.015f;
+  // A pose not verified still measures the motion along what depth fixed: when it passed the
+  // check from the prediction's hypothesis with at least this many of its 6 directions fixed by
+  // depth, it updates the motion model's velocity. Along the rest it holds the prediction's own
+  // value or the grey values', so the prediction confirms little it did not already say (the
+  // method's value there, an unverified KCC peak, would; so may grey values alone, a texture
+  // period away: README "The pose check"). 7: only verified poses do, and the velocity decays
+  // over a stretch of unverified frames.
+  int unverified_motion_min_directions = 5;
 
   // Tracking state.
   float min_valid_depth_fraction = 0.05f;
