@@ -2,7 +2,8 @@
 # Runs nidevo-run on the stress suite's sequences (build/stress/stress_*, rendered by
 # scripts/stress_suite.sh) and on the real clip, one per-frame CSV each, then prints per sequence
 # the ATE, the OK share and the silent failures, and the per-status error table over the suite
-# and over the real clip (as recorded, and every 2nd and 3rd frame: two and three times as fast). Extra arguments go to nidevo-run (e.g. --align_photometric_weight 0).
+# and over the real clip (as recorded, and every 2nd and 3rd frame: two and three times as
+# fast). Extra arguments go to nidevo-run (e.g. --align_photometric_weight 0).
 # Usage: scripts/status_suite.sh [nidevo-run flags...]   (NIDEVO_STATUS_OUT: CSV folder,
 # default build/status; NIDEVO_STATUS_SUITE: the sequences' folder, default build/stress;
 # NIDEVO_STATUS_BIN: the folder of the nidevo-run to measure, default build/bin, e.g. an older

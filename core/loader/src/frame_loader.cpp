@@ -98,7 +98,7 @@ LoadedSequence loadSequence(const SequenceSource& src) {
     auto [preset, camera_source] = std::filesystem::exists(file)
                                        ? std::pair(Camera{}, file.string())
                                        : datasetPreset(src.dataset, src.camera);
-    if (src.frame_step < 1) throw std::invalid_argument("frame step must be at least 1");
+    if (src.frame_step < 1) throw std::invalid_argument("frame_step: must be at least 1");
     TumDataset ds(src.dataset, preset);
     const size_t step = src.frame_step;
     size_t n = (ds.size() + step - 1) / step;

@@ -76,9 +76,7 @@ std::vector<nidevo::cli::SequenceSource> sequencesFromFlags() {
     src.dataset = std::string(dir);
     src.camera = absl::GetFlag(FLAGS_camera);
     src.max_frames = size_t(std::max(0, absl::GetFlag(FLAGS_max_frames)));
-    if (absl::GetFlag(FLAGS_frame_step) < 1)
-      throw std::invalid_argument("--frame_step: must be at least 1");
-    src.frame_step = size_t(absl::GetFlag(FLAGS_frame_step));
+    src.frame_step = size_t(std::max(0, absl::GetFlag(FLAGS_frame_step)));  // 0: refused
     out.push_back(src);
   }
   return out;
