@@ -69,6 +69,28 @@ TEST(Ate, UnmatchedTimestampsAreSkippedAndTooFewIsAnError) {
   EXPECT_THROW(computeAte(matchByTimestamp(est, ref)), std::invalid_argument);
 }
 
+TEST(Ate, OffsetUndoesAKnownTimestampLag) {
+  // Accelerating, so that no rigid motion maps the path onto itself a frame later (a helix's
+  // would).
+  Trajectory ref;
+  for (int i = 0; i < 300; ++i) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(1e-4 * i * i, std::sin(0.1 * i), 0);
+    ref.push_back(StampedPose::fromPose(i / 30.0, T));
+  }
+  Trajectory late = ref;
+  for (auto& p : late) p.timestamp += 0.25;  // the same poses, stamped 250 ms late
+  EXPECT_THROW(computeAte(matchByTimestamp(late, ref)), std::invalid_argument);
+  const auto m = matchByTimestamp(late, ref, 0.01, -0.25);
+  ASSERT_EQ(m.estimate.size(), 300u);
+  EXPECT_LT(computeAte(m).translation.max, 1e-9);
+  EXPECT_DOUBLE_EQ(m.timestamps.front(), late.front().timestamp);  // reported as stamped
+  // One frame off matches each pose with its neighbour's instant: the error is no longer zero.
+  const auto off_by_one = matchByTimestamp(late, ref, 0.01, -0.25 + 1.0 / 30);
+  ASSERT_EQ(off_by_one.estimate.size(), 299u);
+  EXPECT_GT(computeAte(off_by_one).translation.max, 1e-3);
+}
+
 TEST(Rpe, MeasuresAKnownDriftPerFrame) {
   const Trajectory ref = helix(50);
   Trajectory est;

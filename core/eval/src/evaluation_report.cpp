@@ -10,8 +10,9 @@ namespace nidevo::cli {
 
 void printEvaluation(const Trajectory& estimate, const Trajectory& reference,
                      double max_time_difference, int rpe_delta, const std::string& plot_path,
-                     const std::string& title) {
-  const auto matched = matchByTimestamp(estimate, reference, max_time_difference);
+                     const std::string& title, double estimate_offset_s) {
+  const auto matched =
+      matchByTimestamp(estimate, reference, max_time_difference, estimate_offset_s);
   const auto ate = computeAte(matched);
   const auto rpe = computeRpe(matched, rpe_delta);
   const std::string delta = std::to_string(rpe_delta) + (rpe_delta == 1 ? " frame" : " frames");

@@ -38,9 +38,9 @@ ErrorStatistics computeStatistics(std::vector<double> e) {
 }
 
 MatchedTrajectories matchByTimestamp(const Trajectory& estimate, const Trajectory& reference,
-                                     double max_difference) {
+                                     double max_difference, double estimate_offset_s) {
   std::vector<double> ta, tb;
-  for (auto& p : estimate) ta.push_back(p.timestamp);
+  for (auto& p : estimate) ta.push_back(p.timestamp + estimate_offset_s);
   for (auto& p : reference) tb.push_back(p.timestamp);
   MatchedTrajectories m;
   for (auto [i, j] : associateByTimestamp(ta, tb, max_difference)) {

@@ -15,14 +15,16 @@ struct ErrorStatistics {
 };
 ErrorStatistics computeStatistics(std::vector<double> errors);
 
-// Estimate and reference poses matched by timestamp (within max_difference seconds).
+// Estimate and reference poses matched by timestamp (within max_difference seconds), the
+// estimate's timestamps shifted by estimate_offset_s first (TUM's evaluate_ate.py --offset): a
+// sensor whose stamps lag its capture by L matches the reference best at -L.
 struct MatchedTrajectories {
   std::vector<Eigen::Isometry3d> estimate;
   std::vector<Eigen::Isometry3d> reference;
   std::vector<double> timestamps;
 };
 MatchedTrajectories matchByTimestamp(const Trajectory& estimate, const Trajectory& reference,
-                                     double max_difference = 0.01);
+                                     double max_difference = 0.01, double estimate_offset_s = 0.0);
 
 struct AteResult {
   ErrorStatistics translation;  // metres
