@@ -192,6 +192,12 @@ void KernelCrossCorrelator::forward(const float* in, std::complex<float>* out) {
                         reinterpret_cast<fftwf_complex*>(out));
 }
 
+void KernelCrossCorrelator::forwardResponse(std::complex<float>* out) {
+  // response_ and real_ both come from fftwf_alloc_real, so the plan's alignment holds.
+  fftwf_execute_dft_r2c(static_cast<fftwf_plan>(plan_forward_), response_,
+                        reinterpret_cast<fftwf_complex*>(out));
+}
+
 void KernelCrossCorrelator::gaussianCorrelation(const std::complex<float>* const* a, double aa,
                                                 const std::complex<float>* const* b, double bb,
                                                 float* out) {
@@ -215,7 +221,7 @@ void KernelCrossCorrelator::train(const float* const* channels) {
     forward(channels[c], key_hat_[size_t(c)]);
   }
   gaussianCorrelation(key_hat_.data(), key_energy_, key_hat_.data(), key_energy_, response_);
-  forward(response_, alpha_hat_);
+  forwardResponse(alpha_hat_);
   // Eq. 13: F(alpha) = F(y) / (F(k_xx) + lambda).
   const std::complex<float> lambda(float(lambda_), 0.f);
   for (size_t i = 0; i < n_complex_; ++i) alpha_hat_[i] = label_hat_[i] / (alpha_hat_[i] + lambda);
@@ -246,7 +252,7 @@ void KernelCrossCorrelator::correlate(const float* const* channels) {
     forward(channels[c], cur_hat_[size_t(c)]);
   }
   gaussianCorrelation(key_hat_.data(), key_energy_, cur_hat_.data(), cur_energy, response_);
-  forward(response_, spectrum_);
+  forwardResponse(spectrum_);
   multiply(alpha_hat_, n_complex_, spectrum_);  // Eq. 15
   fftwf_execute_dft_c2r(static_cast<fftwf_plan>(plan_inverse_),
                         reinterpret_cast<fftwf_complex*>(spectrum_), response_);

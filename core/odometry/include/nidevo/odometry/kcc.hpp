@@ -47,7 +47,7 @@ class KernelCrossCorrelator {
   bool trained() const { return trained_; }
   KccMatch match(const float* const* channels, bool subpixel, int psr_exclusion,
                  const KccShiftPrior* prior = nullptr);
-  // The last response (width*height, peak at the shift), for tests and debugging.
+  // The last match's response (width*height, peak at the shift), for tests and debugging.
   const float* response() const { return response_; }
 
  private:
@@ -59,6 +59,8 @@ class KernelCrossCorrelator {
   void addSubpixelOffset(int pu, int pv, double* du, double* dv) const;
   double peakToSidelobe(int pu, int pv, double peak, int exclusion) const;
   void forward(const float* in, std::complex<float>* out);
+  // The kernel in response_, transformed in place of a copy (the transform may overwrite it).
+  void forwardResponse(std::complex<float>* out);
   void gaussianCorrelation(const std::complex<float>* const* a, double aa,
                            const std::complex<float>* const* b, double bb, float* out);
 
