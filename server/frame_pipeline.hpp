@@ -27,7 +27,6 @@ struct FrameJob {
   uint64_t ticket = 0;  // order of entry into the stages, from 0
   v1::Frame frame;
   Clock::time_point arrival;
-  RgbdFrame image;
   FrameState state;
   std::string error;  // set by stage 1 when the frame cannot be used: answered ERROR
   double queue_s = 0;

@@ -25,11 +25,14 @@ OdometryStages::OdometryStages(std::shared_ptr<const FrameDecoder> decoder,
 void OdometryStages::prepare(FrameJob* job) {
   const Clock::time_point start = Clock::now();
   job->queue_s = secondsBetween(job->arrival, start);
-  job->error = decoder_->decode(job->frame, &job->image);
+  // The decoded pixels (1.5 MB at VGA) are read by stage 1 only, so one image per worker thread
+  // serves every session rather than one per frame in flight.
+  thread_local RgbdFrame image;
+  job->error = decoder_->decode(job->frame, &image);
   job->decode_s = secondsBetween(start, Clock::now());
   if (!job->error.empty()) return;
   try {
-    odometry_->computeNormals(job->image, &job->state);
+    odometry_->computeNormals(image, &job->state);
   } catch (const std::exception& e) {
     job->error = std::string("frame: ") + e.what();
   }

@@ -20,8 +20,8 @@ struct MapFrame {
 MapFrame mapOf(const RgbdFrame& frame, const Camera& camera, const OdometryConfig& c) {
   MapFrame out;
   NormalMapBuilder builder;
-  builder.compute(frame.depth, camera, c.normal_stride, c.cell_size, c.depth_discontinuity,
-                  c.min_depth_m, c.max_depth_m, c.crease_dot, &out.map);
+  builder.compute(frame.depth, PixelRays(camera, c.normal_stride), c.cell_size,
+                  c.depth_discontinuity, c.min_depth_m, c.max_depth_m, c.crease_dot, &out.map);
   out.intensity.resize(out.map.normal.size());
   for (int v = 0; v < out.map.height; ++v)
     for (int u = 0; u < out.map.width; ++u)

@@ -5,6 +5,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "nidevo/io/camera_io.hpp"
 
@@ -121,7 +123,7 @@ TEST_P(NormalMapPlanes, SmoothedNormalsOfARenderedPlaneAreWithinHalfADegree) {
     for (int u = 200; u < 260; ++u) depth.at(u, v) = 0.f;
   NormalMapBuilder builder;
   NormalMap map;
-  builder.compute(depth, cam, stride, 10, 0.05f, 0.1f, 10.f, 0.999f, &map);
+  builder.compute(depth, PixelRays(cam, stride), 10, 0.05f, 0.1f, 10.f, 0.999f, &map);
   ASSERT_EQ(map.width, cam.width / stride);
   int checked = 0;
   double worst = 0;
@@ -147,7 +149,7 @@ TEST(NormalMap, DepthDiscontinuityBreaksNormalsAndCreasesAreMarked) {
     for (int u = 320; u < cam.width; ++u) depth.at(u, v) = 3.f;  // a step
   NormalMapBuilder builder;
   NormalMap map;
-  builder.compute(depth, cam, 1, 5, 0.05f, 0.1f, 10.f, 0.999f, &map);
+  builder.compute(depth, PixelRays(cam, 1), 5, 0.05f, 0.1f, 10.f, 0.999f, &map);
   EXPECT_FALSE(map.valid[size_t(240) * map.width + 320]);
   EXPECT_FALSE(map.valid[size_t(240) * map.width + 319]);
   EXPECT_TRUE(map.valid[size_t(240) * map.width + 100]);
@@ -179,7 +181,7 @@ TEST(NormalMap, EqualsThePlainPerPixelComputationBitForBit) {
       SCOPED_TRACE("stride " + std::to_string(stride) + ", cell " + std::to_string(cell));
       NormalMapBuilder builder;
       NormalMap fast, plain;
-      builder.compute(depth, cam, stride, cell, 0.05f, 0.1f, 10.f, 0.999f, &fast);
+      builder.compute(depth, PixelRays(cam, stride), cell, 0.05f, 0.1f, 10.f, 0.999f, &fast);
       referenceNormalMap(depth, cam, stride, cell, 0.05f, 0.1f, 10.f, 0.999f, &plain);
       ASSERT_EQ(fast.width, plain.width);
       ASSERT_EQ(fast.height, plain.height);
@@ -195,12 +197,53 @@ TEST(NormalMap, EqualsThePlainPerPixelComputationBitForBit) {
   }
 }
 
+// One builder serves every session a worker runs: maps from one builder that alternates between
+// cameras (sizes, distortion) equal those of a builder used for one camera only.
+TEST(NormalMap, OneBuilderServesCamerasInTurnAsFreshBuildersDo) {
+  const Camera icl = *cameraPreset("icl"), fr1 = *cameraPreset("tum_fr1");
+  Camera small = icl.subsampled(2);
+  const Eigen::Vector3f n = Eigen::Vector3f(0.2f, -0.4f, -1.f).normalized();
+  struct Case {
+    Camera cam;
+    int stride;
+  };
+  const Case cases[] = {{fr1, 2}, {small, 1}, {icl, 2}, {fr1, 2}, {small, 1}};
+  NormalMapBuilder shared;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::to_string(c.cam.width) + "x" + std::to_string(c.cam.height));
+    const DepthImageF depth = planeDepth(c.cam, n, 2.f);
+    const PixelRays rays(c.cam, c.stride);
+    NormalMap from_shared, from_fresh;
+    shared.compute(depth, rays, 10, 0.05f, 0.1f, 10.f, 0.999f, &from_shared);
+    NormalMapBuilder().compute(depth, rays, 10, 0.05f, 0.1f, 10.f, 0.999f, &from_fresh);
+    ASSERT_GT(from_fresh.validCount(), from_fresh.width * from_fresh.height / 2);
+    EXPECT_EQ(from_shared.normal, from_fresh.normal);
+    EXPECT_EQ(from_shared.valid, from_fresh.valid);
+    EXPECT_EQ(from_shared.points, from_fresh.points);
+    EXPECT_EQ(from_shared.smooth, from_fresh.smooth);
+  }
+}
+
+TEST(NormalMap, DepthOfAnotherSizeThanTheRaysIsRefusedByName) {
+  const Camera cam = *cameraPreset("icl");
+  NormalMap map;
+  try {
+    NormalMapBuilder().compute(DepthImageF(320, 240, 1.f), PixelRays(cam, 2), 10, 0.05f, 0.1f, 10.f,
+                               0.999f, &map);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(
+        std::string(e.what()),
+        "normal map: depth 320x240 at stride 2 gives a 160x120 map, the rays are for 320x240");
+  }
+}
+
 TEST(NormalMap, NoValidDepthGivesNoNormals) {
   const Camera cam = *cameraPreset("icl");
   NormalMapBuilder builder;
   NormalMap map;
-  builder.compute(DepthImageF(cam.width, cam.height, 0.f), cam, 2, 10, 0.05f, 0.1f, 10.f, 0.999f,
-                  &map);
+  builder.compute(DepthImageF(cam.width, cam.height, 0.f), PixelRays(cam, 2), 10, 0.05f, 0.1f, 10.f,
+                  0.999f, &map);
   EXPECT_EQ(map.validCount(), 0);
 }
 

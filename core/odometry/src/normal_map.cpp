@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
+#include <stdexcept>
+#include <string>
 
 #include "constant_stride.hpp"
 #include "vector_clones.hpp"
@@ -153,16 +154,34 @@ int NormalMap::validCount() const {
   return n;
 }
 
-void NormalMapBuilder::compute(const DepthImageF& depth, const Camera& camera, int stride,
-                               int cell_size, float depth_discontinuity, float min_depth,
-                               float max_depth, float crease_dot, NormalMap* out) {
-  const int W = depth.width / stride, H = depth.height / stride;
+PixelRays::PixelRays(const Camera& camera, int map_stride) : stride(map_stride) {
+  const Camera cam = camera.subsampled(map_stride);
+  width = cam.width;
+  height = cam.height;
+  std::vector<float> column_ray(static_cast<size_t>(width)), row_ray(static_cast<size_t>(height));
+  for (int u = 0; u < width; ++u) column_ray[size_t(u)] = float((float(u) - cam.cx) / cam.fx);
+  for (int v = 0; v < height; ++v) row_ray[size_t(v)] = float((float(v) - cam.cy) / cam.fy);
+  expandRays(cam.distortion, column_ray, row_ray, &x, &y);
+}
+
+void NormalMapBuilder::compute(const DepthImageF& depth, const PixelRays& rays, int cell_size,
+                               float depth_discontinuity, float min_depth, float max_depth,
+                               float crease_dot, NormalMap* out) {
+  if (depth.width / rays.stride != rays.width || depth.height / rays.stride != rays.height) {
+    throw std::invalid_argument(
+        "normal map: depth " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
+        " at stride " + std::to_string(rays.stride) + " gives a " +
+        std::to_string(depth.width / rays.stride) + "x" +
+        std::to_string(depth.height / rays.stride) + " map, the rays are for " +
+        std::to_string(rays.width) + "x" + std::to_string(rays.height));
+  }
+  const int W = rays.width, H = rays.height;
   const size_t n = size_t(W) * size_t(H);
   out->resize(W, H);
   for (auto* plane : {&z_, &nx_, &ny_, &nz_, &hx_, &hy_, &hz_}) plane->resize(n);
   has_normal_.resize(n);
-  backProject(depth, camera.subsampled(stride), stride, min_depth, max_depth, out);
-  rawNormals(W, H, depth_discontinuity);
+  backProject(depth, rays, min_depth, max_depth, out);
+  rawNormals(rays, depth_discontinuity);
   boxFilter(W, H, cell_size, out);
   markSmooth(W, H, crease_dot, out);
 }
@@ -171,40 +190,21 @@ float* NormalMapBuilder::rowOf(std::vector<float>& plane, int width, int v) {
   return plane.data() + size_t(v) * size_t(width);
 }
 
-// Per-pixel rays, rebuilt only when the camera changes: undistorting every pixel (Newton) is
-// too slow for every frame.
-void NormalMapBuilder::updateRays(const Camera& cam, int W, int H) {
-  const double key[] = {cam.fx,
-                        cam.fy,
-                        cam.cx,
-                        cam.cy,
-                        double(W),
-                        double(H),
-                        cam.distortion.k1,
-                        cam.distortion.k2,
-                        cam.distortion.p1,
-                        cam.distortion.p2,
-                        cam.distortion.k3};
-  if (std::equal(std::begin(key), std::end(key), rays_key_.begin(), rays_key_.end())) return;
-  rays_key_.assign(std::begin(key), std::end(key));
-  std::vector<float> column_ray(static_cast<size_t>(W)), row_ray(static_cast<size_t>(H));
-  for (int u = 0; u < W; ++u) column_ray[size_t(u)] = float((float(u) - cam.cx) / cam.fx);
-  for (int v = 0; v < H; ++v) row_ray[size_t(v)] = float((float(v) - cam.cy) / cam.fy);
-  expandRays(cam.distortion, column_ray, row_ray, &ray_x_, &ray_y_);
+const float* NormalMapBuilder::rowOf(const std::vector<float>& plane, int width, int v) {
+  return plane.data() + size_t(v) * size_t(width);
 }
 
 // Back-projection through the per-pixel rays (Camera::backproject's divisions done once).
-void NormalMapBuilder::backProject(const DepthImageF& depth, const Camera& cam, int stride,
-                                   float min_depth, float max_depth, NormalMap* out) {
+void NormalMapBuilder::backProject(const DepthImageF& depth, const PixelRays& rays, float min_depth,
+                                   float max_depth, NormalMap* out) {
   const int W = out->width, H = out->height;
-  updateRays(cam, W, H);
-  withConstantStride(stride, [&](auto step) {
+  withConstantStride(rays.stride, [&](auto step) {
     for (int v = 0; v < H; ++v) {
       const float* row = &depth.data[size_t(v * step) * size_t(depth.width)];
       float* z_row = rowOf(z_, W, v);
       Eigen::Vector3f* dst = &out->points[size_t(v) * size_t(W)];
-      const float* rx = rowOf(ray_x_, W, v);
-      const float* ry = rowOf(ray_y_, W, v);
+      const float* rx = rowOf(rays.x, W, v);
+      const float* ry = rowOf(rays.y, W, v);
       for (int u = 0; u < W; ++u) {
         float z = row[u * step];
         if (!(z >= min_depth && z <= max_depth)) z = 0.f;  // also rejects NaN
@@ -216,7 +216,9 @@ void NormalMapBuilder::backProject(const DepthImageF& depth, const Camera& cam, 
 }
 
 // Paper Eq. 4 at every pixel with both vertical neighbours; the first and last rows get none.
-void NormalMapBuilder::rawNormals(int W, int H, float depth_discontinuity) {
+void NormalMapBuilder::rawNormals(const PixelRays& rays, float depth_discontinuity) {
+  const int W = rays.width, H = rays.height;
+  const std::vector<float>&ray_x = rays.x, &ray_y = rays.y;
   for (int v : {0, H - 1}) {
     std::fill_n(rowOf(nx_, W, v), W, 0.f);
     std::fill_n(rowOf(ny_, W, v), W, 0.f);
@@ -225,8 +227,8 @@ void NormalMapBuilder::rawNormals(int W, int H, float depth_discontinuity) {
   }
   for (int v = 1; v < H - 1; ++v) {
     centralDifferencesRow(rowOf(z_, W, v - 1), rowOf(z_, W, v), rowOf(z_, W, v + 1),
-                          rowOf(ray_x_, W, v - 1), rowOf(ray_x_, W, v), rowOf(ray_x_, W, v + 1),
-                          rowOf(ray_y_, W, v - 1), rowOf(ray_y_, W, v), rowOf(ray_y_, W, v + 1), W,
+                          rowOf(ray_x, W, v - 1), rowOf(ray_x, W, v), rowOf(ray_x, W, v + 1),
+                          rowOf(ray_y, W, v - 1), rowOf(ray_y, W, v), rowOf(ray_y, W, v + 1), W,
                           depth_discontinuity, rowOf(nx_, W, v), rowOf(ny_, W, v), rowOf(nz_, W, v),
                           &has_normal_[size_t(v) * size_t(W)]);
   }

@@ -121,6 +121,7 @@ Odometry::Odometry(const Camera& camera, const OdometryConfig& config)
   for (int v = 0; v < H; ++v)
     row_ray[size_t(v)] = float((float(v * stride) - camera_.cy) / camera_.fy);
   expandRays(camera_.distortion, column_ray, row_ray, &ray_x_, &ray_y_);
+  normal_rays_ = std::make_unique<const PixelRays>(camera_, config_.normal_stride);
   rot_ = std::make_unique<RotationState>(
       config_, camera_,
       (camera_.width / config_.normal_stride) * (camera_.height / config_.normal_stride));
@@ -189,9 +190,11 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
   if (frame.depth.size() != pixels || frame.gray.size() != pixels)
     throw std::invalid_argument("image holds a pixel count other than width x height");
   s->timestamp = frame.timestamp;
-  s->normal_builder.compute(frame.depth, camera_, config_.normal_stride, config_.cell_size,
-                            config_.depth_discontinuity, config_.min_depth_m, config_.max_depth_m,
-                            config_.crease_dot, &s->normals);
+  // The builder's scratch (about 2 MB at VGA) serves every session the thread runs rather than
+  // every frame in flight: only the map it fills is the frame's.
+  thread_local NormalMapBuilder normal_builder;
+  normal_builder.compute(frame.depth, *normal_rays_, config_.cell_size, config_.depth_discontinuity,
+                         config_.min_depth_m, config_.max_depth_m, config_.crease_dot, &s->normals);
   const int map_width = s->normals.width;
   s->map_intensity.resize(size_t(map_width) * size_t(s->normals.height));
   for (int v = 0; v < s->normals.height; ++v) {

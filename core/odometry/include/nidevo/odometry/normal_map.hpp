@@ -20,21 +20,34 @@ struct NormalMap {
   int validCount() const;
 };
 
-// Owns the scratch buffers so that repeated calls do not allocate.
+// The undistorted viewing ray (x/z, y/z) of every pixel of a normal map: pixel (u, v) of the map
+// is pixel (stride*u, stride*v) of the camera's image. Built once per camera, apart from the
+// builder's scratch: undistorting every pixel (Newton) is too slow for every frame, and a
+// builder may serve sessions with different cameras.
+struct PixelRays {
+  PixelRays(const Camera& camera, int stride);
+  int width = 0;
+  int height = 0;
+  int stride = 1;
+  std::vector<float> x, y;  // row-major, width x height
+};
+
+// Owns the scratch buffers so that repeated calls do not allocate. Holds nothing of a frame or a
+// camera between calls, so one builder can serve every session a thread runs.
 class NormalMapBuilder {
  public:
-  // depth: metres, 0 = missing. stride: subsampling of the depth image (pixel (u,v) of the map
-  // is depth pixel (stride*u, stride*v)). Depth outside [min_depth, max_depth] counts as missing.
-  void compute(const DepthImageF& depth, const Camera& camera, int stride, int cell_size,
+  // depth: metres, 0 = missing, of the image `rays` were built for (else std::invalid_argument).
+  // Depth outside [min_depth, max_depth] counts as missing.
+  void compute(const DepthImageF& depth, const PixelRays& rays, int cell_size,
                float depth_discontinuity, float min_depth, float max_depth, float crease_dot,
                NormalMap* out);
 
  private:
   static float* rowOf(std::vector<float>& plane, int width, int v);
-  void updateRays(const Camera& cam, int width, int height);
-  void backProject(const DepthImageF& depth, const Camera& cam, int stride, float min_depth,
+  static const float* rowOf(const std::vector<float>& plane, int width, int v);
+  void backProject(const DepthImageF& depth, const PixelRays& rays, float min_depth,
                    float max_depth, NormalMap* out);
-  void rawNormals(int width, int height, float depth_discontinuity);
+  void rawNormals(const PixelRays& rays, float depth_discontinuity);
   void boxFilter(int width, int height, int cell_size, NormalMap* out);
   void markSmooth(int width, int height, float crease_dot, NormalMap* out);
 
@@ -45,8 +58,6 @@ class NormalMapBuilder {
   std::vector<uint8_t> has_normal_;  // Eq. 4 gave a normal
   std::vector<float> hx_, hy_, hz_;  // horizontal box sums
   std::vector<float> sum_x_, sum_y_, sum_z_;  // vertical running sums, one per column
-  std::vector<float> ray_x_, ray_y_;          // per pixel, undistorted
-  std::vector<double> rays_key_;              // the camera they were built for
 };
 
 }  // namespace nidevo

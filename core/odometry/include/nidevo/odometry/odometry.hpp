@@ -78,7 +78,6 @@ struct FrameState {
   double timestamp = 0;
   bool depth_ok = false;
   NormalMap normals;
-  NormalMapBuilder normal_builder;
   // Projection cloud (camera frame), one plane per coordinate; z = 0 where depth is missing.
   std::vector<float> cloud_x, cloud_y, cloud_z;
   std::vector<float> intensity;      // [0, 1]
@@ -143,6 +142,7 @@ class Odometry {
   std::unique_ptr<VerificationState> verify_;
   std::vector<float> point_weight_;   // per projection point, fades contrast at the border
   std::vector<float> ray_x_, ray_y_;  // projection cloud: per-pixel undistorted rays
+  std::unique_ptr<const PixelRays> normal_rays_;  // the normal map's
   FrameState own_state_;
   uint64_t next_index_ = 0;
 };
