@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <future>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -261,7 +262,9 @@ int run(const ServerConfig& config) {
   std::unique_ptr<prometheus::Exposer> exposer;  // after the registry (see build notes)
   const int metrics_port = serveMetrics(config, metrics, &exposer);
   if (metrics_port < 0) return 1;
-  warmUp(config.odometry);
+  // On a thread of its own, whose stage-1 scratch (thread-local) goes when it ends: the main
+  // thread never runs a stage again.
+  std::async(std::launch::async, warmUp, config.odometry).get();
 
   auto pool = std::make_unique<nidevo::server::WorkerPool>(config.workers);
   const std::string token_file = absl::GetFlag(FLAGS_token_file);
