@@ -8,7 +8,8 @@
 #      it runs in the server, between other sessions' frames: "minus stages" is the path around it);
 #   3. unpinned: the server (2 workers) and the load tester sharing both cores, 1..UNPINNED_MAX;
 #   4. memory: resident size and heap in use with MEMORY_SESSIONS sessions open (at 5 Hz, so
-#      that none waits), against the idle server: MB per active session.
+#      that none waits; NIDEVO_CAPACITY_MEMORY_RATE sets another rate, e.g. 30 for a loaded
+#      server whose queues fill), against the idle server: MB per active session.
 # Raw frames, 2 s warm-up, SECONDS-long windows. Prints tables; the CSVs go to NIDEVO_CAPACITY_OUT.
 # Timing on a shared machine is reported, never judged; the exit code only says the runs worked.
 # NIDEVO_CAPACITY_PHASE: the sessions' send phases, random (default: independent cameras) or
@@ -19,8 +20,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-8}" pinned_max="${2:-4}" unpinned_max="${3:-6}" memory_sessions="${4:-8}"
 phase="${NIDEVO_CAPACITY_PHASE:-random}"
-case "$seconds$pinned_max$unpinned_max$memory_sessions" in
-  '' | *[!0-9]*) echo "capacity.sh: arguments must be whole numbers" >&2; exit 2 ;;
+memory_rate="${NIDEVO_CAPACITY_MEMORY_RATE:-5}"
+case "$seconds$pinned_max$unpinned_max$memory_sessions$memory_rate" in
+  '' | *[!0-9]*)
+    echo "capacity.sh: arguments and NIDEVO_CAPACITY_MEMORY_RATE must be whole numbers" >&2
+    exit 2
+    ;;
 esac
 for b in nidevo-server nidevo-client nidevo-run; do
   [ -x "build/bin/$b" ] || { echo "capacity.sh: build/bin/$b missing (run scripts/build.sh)" >&2; exit 2; }
@@ -88,7 +93,7 @@ build/bin/nidevo-client load --target "$target" --metrics_url "$metrics" --encod
 stop_server
 table "$out/unpinned.csv" "$core_ms"
 
-echo "== memory: $memory_sessions sessions open at 5 Hz against the idle server"
+echo "== memory: $memory_sessions sessions open at $memory_rate Hz against the idle server"
 scrape() {  # resident and heap bytes
   curl -s "$metrics" | awk '/^process_resident_memory_bytes /{r=$2} /^nidevo_heap_allocated_bytes /{h=$2}
     END {printf "%.0f %.0f\n", r, h}'
@@ -97,7 +102,7 @@ start_server build/bin/nidevo-server --workers 2
 sleep 1
 read -r idle_rss idle_heap <<<"$(scrape)"
 build/bin/nidevo-client load --target "$target" --encoding raw --sessions "$memory_sessions" \
-  --session_rate 5 --warmup_s 2 --duration_s "$seconds" >"$out/memory.txt" &
+  --session_rate "$memory_rate" --warmup_s 2 --duration_s "$seconds" >"$out/memory.txt" &
 tester=$!
 sleep $((2 + seconds / 2))
 read -r busy_rss busy_heap <<<"$(scrape)"
