@@ -92,6 +92,7 @@ void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose,
     check->set_depth_constrained_directions(v.depth_constrained_directions);
     check->set_confirmed_directions(v.confirmed_directions);
     check->set_predicted_directions(v.predicted_directions);
+    check->set_grey_depth_gap_deg(v.grey_depth_gap_deg);
   } else {
     out->clear_check();
   }

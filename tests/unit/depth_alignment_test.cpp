@@ -312,6 +312,27 @@ TEST_F(DepthAlignmentTest, RefiningAlongWeakDirectionsLeavesAFullyConstrainedPos
                   .T_ref_cur.isApprox(a.T_ref_cur));
 }
 
+// The current frame's grey values seen from a camera turned by 0, 0.5 and 1 deg from the one its
+// depth was seen from (colour and depth taken apart in time): the gap between the rotations
+// depth alone and grey values alone fit best is that turn.
+TEST_F(DepthAlignmentTest, GreyDepthGapMeasuresGreyValuesSeenFromATurnedCamera) {
+  const Isometry3d truth = motion(0.02, {0.3, 1, 0.2}, {0.02, -0.01, 0.01});
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.2, 1, 0.3).normalized();
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  for (double turn_deg : {0.0, 0.5, 1.0}) {
+    SCOPED_TRACE("grey values turned by " + std::to_string(turn_deg) + " deg");
+    const Isometry3d T_depth = T0_ * truth;
+    const Isometry3d T_grey =
+        T_depth * motion(turn_deg * M_PI / 180, axis, Eigen::Vector3d::Zero());
+    const MapFrame depth = mapOf(seq_->renderAt(T_depth, 0.033, 1).frame, camera_, config_);
+    const MapFrame grey = mapOf(seq_->renderAt(T_grey, 0.033, 1).frame, camera_, config_);
+    const AlignmentResult a = aligner_.align(sample_, depth.map, grey.intensity, map_camera, truth,
+                                             alignmentParams(config_));
+    ASSERT_EQ(a.depth_constrained, 6);
+    EXPECT_NEAR(a.grey_depth_gap_rad * 180 / M_PI, turn_deg, 0.15);
+  }
+}
+
 TEST(AlignmentTargetTest, HoldsEachPixelsPlaneAndGreyValue) {
   NormalMap map;
   map.resize(5, 4);

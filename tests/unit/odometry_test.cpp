@@ -153,6 +153,41 @@ TEST(Odometry, PredictedAssociationSurvivesASixDegreeTurnFromTheKeyframe) {
   EXPECT_GT(predicted.overlap_pixels, 1.08 * same_pixel.overlap_pixels);
 }
 
+// A frame whose grey values were seen 1.2 deg further along a turn than its depth: DEGRADED,
+// with the pose the same as with the rule off; the same frame with its own grey values is OK.
+TEST(Odometry, GreyValuesOutOfStepWithDepthAreDegradedWithThePoseUnchanged) {
+  const synth::SyntheticSequence seq(officeConfig(1));
+  const Eigen::Isometry3d T0 = seq.groundTruth(0);
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.2, 1, 0.1).normalized();
+  auto turned = [&](double deg) {
+    Eigen::Isometry3d T = T0;
+    T.linear() = T0.linear() * Eigen::AngleAxisd(deg * M_PI / 180, axis).toRotationMatrix();
+    return T;
+  };
+  RgbdFrame out_of_step = seq.renderAt(turned(2.0), 0.033, 1).frame;
+  out_of_step.gray = seq.renderAt(turned(3.2), 0.033, 1).frame.gray;
+  auto second = [&](const RgbdFrame& frame, float max_gap_rad) {
+    OdometryConfig config;
+    config.verify_max_grey_depth_gap_rad = max_gap_rad;
+    Odometry odometry(seq.config().camera, config);
+    odometry.track(seq.renderAt(T0, 0.0, 0).frame);
+    return odometry.track(frame);
+  };
+  const float rule = OdometryConfig{}.verify_max_grey_depth_gap_rad;
+  const PoseEstimate in_step = second(seq.renderAt(turned(2.0), 0.033, 1).frame, rule);
+  EXPECT_EQ(in_step.state, TrackingState::kOk) << in_step.reason;
+  EXPECT_LT(in_step.verification.grey_depth_gap_deg, 0.3);
+  const PoseEstimate flagged = second(out_of_step, rule);
+  EXPECT_EQ(flagged.state, TrackingState::kDegraded);
+  EXPECT_STREQ(flagged.reason,
+               "depth and grey values disagree on the rotation (colour and depth out of step, "
+               "motion blur?)");
+  EXPECT_NEAR(flagged.verification.grey_depth_gap_deg, 1.2, 0.15);
+  const PoseEstimate rule_off = second(out_of_step, 0.f);
+  EXPECT_EQ(rule_off.state, TrackingState::kOk) << rule_off.reason;
+  EXPECT_EQ(rule_off.T_world_cam.matrix(), flagged.T_world_cam.matrix());
+}
+
 TEST(Odometry, NoValidDepthIsLostButFiniteAndRecovers) {
   const synth::SyntheticSequence seq(officeConfig(6));
   Odometry odometry(seq.config().camera, OdometryConfig{});

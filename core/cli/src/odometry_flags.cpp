@@ -88,6 +88,10 @@ ABSL_FLAG(double, verify_max_rms, shortestDecimal(kDefaults.verify_max_rms_m),
           "Largest point-to-plane RMS (m) for OK");
 ABSL_FLAG(double, verify_min_ncc, shortestDecimal(kDefaults.verify_min_ncc),
           "Smallest grey-value correlation for OK, where the reference has texture");
+ABSL_FLAG(double, verify_max_grey_depth_gap_deg,
+          shortestDecimal(float(kDefaults.verify_max_grey_depth_gap_rad * 180 / M_PI)),
+          "DEGRADED (pose unchanged) when the poses depth alone and grey values alone fit best "
+          "are this far apart in rotation (deg; 0: never)");
 ABSL_FLAG(double, reference_min_overlap, shortestDecimal(kDefaults.reference_min_overlap),
           "Renew the reference frame when less of it is in view");
 ABSL_FLAG(int, reference_max_frames, kDefaults.reference_max_frames,
@@ -145,6 +149,8 @@ OdometryConfig odometryConfigFromFlags() {
   c.verify_min_inliers = float(absl::GetFlag(FLAGS_verify_min_inliers));
   c.verify_max_rms_m = float(absl::GetFlag(FLAGS_verify_max_rms));
   c.verify_min_ncc = float(absl::GetFlag(FLAGS_verify_min_ncc));
+  c.verify_max_grey_depth_gap_rad =
+      float(absl::GetFlag(FLAGS_verify_max_grey_depth_gap_deg) * M_PI / 180);
   c.reference_min_overlap = float(absl::GetFlag(FLAGS_reference_min_overlap));
   c.reference_max_frames = absl::GetFlag(FLAGS_reference_max_frames);
   c.prediction_trust_frames = absl::GetFlag(FLAGS_prediction_trust_frames);

@@ -251,10 +251,24 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
 
 namespace {
 
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Eigen6 = Eigen::SelfAdjointEigenSolver<Matrix6d>;
+
 // Directions (of 6) whose normalised eigenvalue reaches min_eigenvalue.
-int constrainedDirections(const Eigen::Matrix<double, 6, 6>& H, double min_eigenvalue) {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H, Eigen::EigenvaluesOnly);
+int constrainedDirections(const Eigen6& eig, double min_eigenvalue) {
   return int((eig.eigenvalues().array() >= min_eigenvalue).count());
+}
+
+// The Gauss-Newton step of one kind of residual alone, along the directions it fixes.
+Vector6d stepAlone(const Eigen6& eig, const Vector6d& b, double min_eigenvalue) {
+  Vector6d xi = Vector6d::Zero();
+  for (int k = 0; k < 6; ++k) {
+    const double lambda = eig.eigenvalues()(k);
+    if (lambda >= min_eigenvalue)
+      xi += (eig.eigenvectors().col(k).dot(b) / lambda) * eig.eigenvectors().col(k);
+  }
+  return xi;
 }
 
 }  // namespace
@@ -308,7 +322,7 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
     }
     // What depth alone fixes at this pose, whatever the grey values add.
     res.depth_constrained =
-        photometric ? constrainedDirections(H_depth, prm.min_eigenvalue) : res.constrained;
+        photometric ? constrainedDirections(Eigen6(H_depth), prm.min_eigenvalue) : res.constrained;
     // Here the rotation part is still in metres at the mean depth.
     const bool converged =
         xi.head<3>().norm() < prm.converged_m && xi.tail<3>().norm() < prm.converged_m;
@@ -319,6 +333,32 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
     T_cur_ref.linear() = Eigen::Quaterniond(T_cur_ref.linear()).normalized().toRotationMatrix();
     if (converged) return;
   }
+}
+
+// Grey values alone, from the pose both sensors gave, to where they fit best: their rotation
+// against depth's own optimum. Steps along the directions grey values fix (their rows carry
+// photometric_weight, squared in the normal equations), stopping at a step below 0.001 deg and
+// 0.1 mm, at one over about 6 deg or 0.1 m (out of the linearisation's reach), or after
+// kGreyDepthGapSteps.
+void DepthAligner::measureGreyDepthGap(const SurfaceSample& ref, const AlignmentTarget& cur,
+                                       const Camera& map_camera, const AlignmentParams& prm,
+                                       double depth_scale, const Isometry3d& T_depth,
+                                       const Isometry3d& T_both, AlignmentResult* res) {
+  constexpr int kGreyDepthGapSteps = 6;
+  Isometry3d T_grey = T_both;
+  AlignmentResult scratch;
+  const double grey_min = prm.min_eigenvalue * prm.photometric_weight * prm.photometric_weight;
+  for (int it = 0; it < kGreyDepthGapSteps; ++it) {
+    evaluate(ref, cur, map_camera, T_grey, prm, depth_scale, true, true, &scratch);
+    const double n = double(std::max<size_t>(12, depth_rows_.size()));
+    Vector6d xi = stepAlone(Eigen6(grey_.H / n), grey_.b / n, grey_min);
+    xi.head<3>() /= depth_scale;
+    if (!xi.allFinite() || xi.head<3>().norm() > 0.1 || xi.tail<3>().norm() > 0.1) break;
+    T_grey = increment(xi) * T_grey;
+    if (xi.head<3>().norm() < 2e-5 && xi.tail<3>().norm() < 1e-4) break;
+  }
+  res->grey_depth_gap_rad = Eigen::AngleAxisd((T_grey * T_depth.inverse()).linear()).angle();
+  res->grey_depth_gap_m = (T_grey.inverse().translation() - T_depth.inverse().translation()).norm();
 }
 
 AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& cur,
@@ -345,8 +385,12 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTar
   if (prm.photometric_weight > 0) {
     const int steps =
         res.constrained < 6 ? prm.iterations : std::min(prm.polish_iterations, prm.iterations);
+    const Isometry3d T_depth = T_cur_ref;
+    const bool depth_fixed_all = res.constrained == 6;
     if (steps > 0)
       gaussNewton(ref, cur, map_camera, prm, depth_scale, true, steps, &T_cur_ref, nullptr, &res);
+    if (depth_fixed_all)
+      measureGreyDepthGap(ref, cur, map_camera, prm, depth_scale, T_depth, T_cur_ref, &res);
   }
   evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, false, false, &res);
   res.T_ref_cur = T_cur_ref.inverse();

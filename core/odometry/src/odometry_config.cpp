@@ -86,6 +86,8 @@ std::string OdometryConfig::validate() const {
   if (!in(verify_max_rms_m, 0, 10)) return "verify_max_rms_m must be in [0, 10]";
   if (!in(verify_min_ncc, -1, 1)) return "verify_min_ncc must be in [-1, 1]";
   if (!in(verify_texture_std, 0, 1)) return "verify_texture_std must be in [0, 1]";
+  if (!in(verify_max_grey_depth_gap_rad, 0, 3.2))
+    return "verify_max_grey_depth_gap_rad must be in [0, 3.2]";
   if (!in(prior_translation_m, 1e-4, 10)) return "prior_translation_m must be in [1e-4, 10]";
   if (!in(prior_rotation_rad, 1e-4, 3.2)) return "prior_rotation_rad must be in [1e-4, 3.2]";
   if (!in(hypothesis_tie, 0, 1)) return "hypothesis_tie must be in [0, 1]";

@@ -1,6 +1,7 @@
 // The pose check of Odometry (stage 3's last step): the method's pose is a hypothesis, refined
 // and verified against the reference frame's surface; the prediction is the fallback.
 #include <algorithm>
+#include <cmath>
 
 #include "nidevo/odometry/odometry.hpp"
 #include "nidevo/odometry/pose_check.hpp"
@@ -25,6 +26,8 @@ PoseVerification summary(const AlignmentResult& a, const char* hypothesis, bool 
   v.free_rotation = a.free_rotation;
   v.free_translation = a.free_translation;
   v.passed = passed;
+  v.grey_depth_gap_deg = a.grey_depth_gap_rad * 180.0 / M_PI;
+  v.grey_depth_gap_m = a.grey_depth_gap_m;
   return v;
 }
 
@@ -160,6 +163,15 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   if (!verified || best.overlapFraction() < config_.reference_min_overlap ||
       ++v.frames_since_reference >= config_.reference_max_frames) {
     renewReference(s, out->T_world_cam, T_method);
+  }
+  // Last, so that it changes no pose: the pose stands as the best fit of both sensors, which
+  // measured motions too far apart for it to be called right.
+  if (out->state == TrackingState::kOk && config_.verify_max_grey_depth_gap_rad > 0 &&
+      best.grey_depth_gap_rad > config_.verify_max_grey_depth_gap_rad) {
+    out->state = TrackingState::kDegraded;
+    out->reason =
+        "depth and grey values disagree on the rotation (colour and depth out of step, "
+        "motion blur?)";
   }
 }
 

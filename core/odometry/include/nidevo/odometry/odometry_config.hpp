@@ -107,6 +107,12 @@ struct OdometryConfig {
   float verify_max_rms_m = 0.03f;
   float verify_min_ncc = 0.3f;       // grey-value agreement, where the reference has texture
   float verify_texture_std = 0.03f;  // reference grey std below which the NCC is not asked
+  // A pose whose depth alone and grey values alone fit best this far apart in rotation
+  // (AlignmentResult::grey_depth_gap_rad) is DEGRADED, its pose unchanged: the sensors measured
+  // different motions (a real camera's colour and depth taken apart in time, motion blur). Above
+  // every verified frame of the stress suite (max 0.83 deg), half the 2 deg of a silent failure;
+  // 0: never (README "Accuracy").
+  float verify_max_grey_depth_gap_rad = 0.017453292f;  // 1 deg
   // Motion prior: a verified pose this far (together) from the prediction has the prediction
   // tried too; fits within hypothesis_tie (relative) are a tie, won by the pose nearer it.
   float prior_translation_m = 0.05f;
