@@ -326,10 +326,23 @@ TEST_F(DepthAlignmentTest, GreyDepthGapMeasuresGreyValuesSeenFromATurnedCamera) 
         T_depth * motion(turn_deg * M_PI / 180, axis, Eigen::Vector3d::Zero());
     const MapFrame depth = mapOf(seq_->renderAt(T_depth, 0.033, 1).frame, camera_, config_);
     const MapFrame grey = mapOf(seq_->renderAt(T_grey, 0.033, 1).frame, camera_, config_);
-    const AlignmentResult a = aligner_.align(sample_, depth.map, grey.intensity, map_camera, truth,
-                                             alignmentParams(config_));
+    // Measured to its end: a bound whose quarter every turn here exceeds.
+    AlignmentParams full = alignmentParams(config_);
+    full.grey_depth_gap_rad = float(0.1 * M_PI / 180);
+    const AlignmentResult a =
+        aligner_.align(sample_, depth.map, grey.intensity, map_camera, truth, full);
     ASSERT_EQ(a.depth_constrained, 6);
     EXPECT_NEAR(a.grey_depth_gap_rad * 180 / M_PI, turn_deg, 0.15);
+    // With the default bound (1 deg) the first step may end it: the same side of the bound.
+    const AlignmentResult quick = aligner_.align(sample_, depth.map, grey.intensity, map_camera,
+                                                 truth, alignmentParams(config_));
+    const float bound = config_.verify_max_grey_depth_gap_rad;
+    EXPECT_EQ(quick.grey_depth_gap_rad > bound, a.grey_depth_gap_rad > bound);
+    // Not measured when the rule is off.
+    full.grey_depth_gap_rad = 0;
+    EXPECT_EQ(aligner_.align(sample_, depth.map, grey.intensity, map_camera, truth, full)
+                  .grey_depth_gap_rad,
+              0.0);
   }
 }
 

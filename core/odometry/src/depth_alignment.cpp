@@ -171,8 +171,11 @@ void DepthAligner::warp(const SurfaceSample& ref, const AlignmentTarget& cur, co
 
 void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur,
                             const Camera& map_camera, const Isometry3d& T_cur_ref,
-                            const AlignmentParams& prm, double depth_scale, bool build_system,
-                            bool photometric, AlignmentResult* res) {
+                            const AlignmentParams& prm, double depth_scale, Rows rows,
+                            AlignmentResult* res) {
+  const bool build_system = rows != Rows::kNone;
+  const bool depth_system = rows == Rows::kDepth || rows == Rows::kDepthAndGrey;
+  const bool photometric = rows == Rows::kDepthAndGrey || rows == Rows::kGrey;
   // Floats per point: metres to 1e-7 relative, far below depth noise; the 6x6 systems are
   // solved in double.
   const Eigen::Matrix3f R = T_cur_ref.linear().cast<float>();
@@ -213,8 +216,9 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
       sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
     }
     if (!build_system) continue;
-    depth_rows_.add(p, n_cur, r, float(huberWeight(r, prm.inlier_m)),
-                    inverse_depth_scale);  // scale: the inlier threshold
+    if (depth_system)
+      depth_rows_.add(p, n_cur, r, float(huberWeight(r, prm.inlier_m)),
+                      inverse_depth_scale);  // scale: the inlier threshold
     if (photometric) {
       Vector3f g;
       float grey;
@@ -227,7 +231,7 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
     }
   }
   if (build_system) {
-    depth_rows_.sum(&depth_);
+    if (depth_system) depth_rows_.sum(&depth_);
     if (photometric) grey_rows_.sum(&grey_);
   }
   res->sampled = int(ref.size());
@@ -281,7 +285,8 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
   Isometry3d& T_cur_ref = *T_cur_ref_io;
   AlignmentResult& res = *result;
   for (int it = 0; it < iterations; ++it) {
-    evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, true, photometric, &res);
+    evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale,
+             photometric ? Rows::kDepthAndGrey : Rows::kDepth, &res);
     // Too few points for six unknowns, or a step no small-motion linearisation can take: the
     // hypothesis is left as it is (and judged as it is).
     const int system_points = int(depth_rows_.size());
@@ -337,27 +342,29 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
 
 // Grey values alone, from the pose both sensors gave, to where they fit best: their rotation
 // against depth's own optimum. Steps along the directions grey values fix (their rows carry
-// photometric_weight, squared in the normal equations), stopping at a step below 0.001 deg and
-// 0.1 mm, at one over about 6 deg or 0.1 m (out of the linearisation's reach), or after
-// kGreyDepthGapSteps.
+// photometric_weight, squared in the normal equations), stopping at a step below 0.01 deg and
+// 0.5 mm, at one over about 6 deg or 0.1 m (out of the linearisation's reach), after
+// kGreyDepthGapSteps, or after the first where the gap is under a quarter of the bound.
 void DepthAligner::measureGreyDepthGap(const SurfaceSample& ref, const AlignmentTarget& cur,
                                        const Camera& map_camera, const AlignmentParams& prm,
                                        double depth_scale, const Isometry3d& T_depth,
                                        const Isometry3d& T_both, AlignmentResult* res) {
   constexpr int kGreyDepthGapSteps = 6;
   Isometry3d T_grey = T_both;
+  auto gap_rad = [&] { return Eigen::AngleAxisd((T_grey * T_depth.inverse()).linear()).angle(); };
   AlignmentResult scratch;
   const double grey_min = prm.min_eigenvalue * prm.photometric_weight * prm.photometric_weight;
   for (int it = 0; it < kGreyDepthGapSteps; ++it) {
-    evaluate(ref, cur, map_camera, T_grey, prm, depth_scale, true, true, &scratch);
-    const double n = double(std::max<size_t>(12, depth_rows_.size()));
+    evaluate(ref, cur, map_camera, T_grey, prm, depth_scale, Rows::kGrey, &scratch);
+    const double n = double(std::max<size_t>(12, grey_rows_.size()));
     Vector6d xi = stepAlone(Eigen6(grey_.H / n), grey_.b / n, grey_min);
     xi.head<3>() /= depth_scale;
     if (!xi.allFinite() || xi.head<3>().norm() > 0.1 || xi.tail<3>().norm() > 0.1) break;
     T_grey = increment(xi) * T_grey;
-    if (xi.head<3>().norm() < 2e-5 && xi.tail<3>().norm() < 1e-4) break;
+    if (it == 0 && gap_rad() < 0.25 * prm.grey_depth_gap_rad) break;
+    if (xi.head<3>().norm() < 1.7e-4 && xi.tail<3>().norm() < 5e-4) break;
   }
-  res->grey_depth_gap_rad = Eigen::AngleAxisd((T_grey * T_depth.inverse()).linear()).angle();
+  res->grey_depth_gap_rad = gap_rad();
   res->grey_depth_gap_m = (T_grey.inverse().translation() - T_depth.inverse().translation()).norm();
 }
 
@@ -389,10 +396,10 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTar
     const bool depth_fixed_all = res.constrained == 6;
     if (steps > 0)
       gaussNewton(ref, cur, map_camera, prm, depth_scale, true, steps, &T_cur_ref, nullptr, &res);
-    if (depth_fixed_all)
+    if (depth_fixed_all && prm.grey_depth_gap_rad > 0)
       measureGreyDepthGap(ref, cur, map_camera, prm, depth_scale, T_depth, T_cur_ref, &res);
   }
-  evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, false, false, &res);
+  evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, Rows::kNone, &res);
   res.T_ref_cur = T_cur_ref.inverse();
   return res;
 }
@@ -411,7 +418,7 @@ AlignmentResult DepthAligner::refineAlongWeakDirections(const SurfaceSample& ref
   Eigen::Matrix<double, 6, 1> weak_moved = Eigen::Matrix<double, 6, 1>::Zero();
   gaussNewton(ref, cur, map_camera, prm, depth_scale, true, prm.iterations, &T_cur_ref, &weak_moved,
               &weak);
-  evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, false, false, &weak);
+  evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, Rows::kNone, &weak);
   if (!(weak.ncc > from.ncc && weak.inliers >= (1.0 - prm.step_inlier_slack) * from.inliers &&
         weak.rms_m <= from.rms_m))
     return from;

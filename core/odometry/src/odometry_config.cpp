@@ -135,6 +135,7 @@ AlignmentParams alignmentParams(const OdometryConfig& c) {
   p.confirm_eigenvalue = c.align_confirm_eigenvalue;
   p.confirm_step_m = c.align_confirm_step_m;
   p.polish_iterations = std::min(c.align_polish_iterations, c.align_iterations);
+  p.grey_depth_gap_rad = c.verify_max_grey_depth_gap_rad;
   return p;
 }
 

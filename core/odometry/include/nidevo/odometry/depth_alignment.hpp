@@ -73,6 +73,10 @@ struct AlignmentParams {
   // The inliers that pass may lose, as a fraction of the hypothesis' (a point or two at a
   // pixel's edge is noise, not the geometry objecting).
   float step_inlier_slack = 0.01f;
+  // The grey-depth gap that matters (AlignmentResult::grey_depth_gap_rad): measured to its end
+  // only where the first grey-value step reaches a quarter of it (a pass over the sample per
+  // step; most frames' gap is far below). 0: not measured.
+  float grey_depth_gap_rad = 0.0f;
 };
 
 struct AlignmentResult {
@@ -128,11 +132,13 @@ class DepthAligner {
   void reserve(size_t points);
 
  private:
-  // One pass over the sample at T_cur_ref: fills the normal equations (when asked; with the
-  // grey-value rows when `photometric`) and the result's counts, RMS and NCC.
+  // Which normal equations a pass over the sample fills.
+  enum class Rows { kNone, kDepth, kDepthAndGrey, kGrey };
+  // One pass over the sample at T_cur_ref: fills the normal equations asked for and the result's
+  // counts, RMS and NCC.
   void evaluate(const SurfaceSample& ref, const AlignmentTarget& cur, const Camera& map_camera,
                 const Eigen::Isometry3d& T_cur_ref, const AlignmentParams& params,
-                double depth_scale, bool build_system, bool photometric, AlignmentResult* result);
+                double depth_scale, Rows rows, AlignmentResult* result);
 
   // Where grey values alone fit best, from T_both (the pose after the grey-value polish), against
   // T_depth (depth's own optimum): res->grey_depth_gap_rad and _m.
