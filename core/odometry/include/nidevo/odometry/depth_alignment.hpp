@@ -6,6 +6,7 @@
 // projective association, updating only the directions the geometry constrains: along the others
 // (a corridor's axis, a single plane's in-plane motion) the hypothesis is kept as it is.
 #include <Eigen/Geometry>
+#include <optional>
 #include <vector>
 
 #include "nidevo/odometry/camera.hpp"
@@ -191,6 +192,8 @@ class DepthAligner {
   WeightedRows depth_rows_, grey_rows_;
   NormalEquations depth_, grey_;    // point-to-plane rows; grey-value rows
   double gain_ = 1.0, bias_ = 0.0;  // exposure change, estimated on the previous pass
+  // The pose grey_ was built at by this align call's passes, if any.
+  std::optional<Eigen::Isometry3d> grey_pose_;
 };
 
 }  // namespace nidevo
