@@ -97,8 +97,12 @@ TEST(Soak, SessionsEndingAtRandomAreAllFreedAndMemoryStaysFlat) {
   // warm-up: gRPC's and the allocator's pools fill). The heap the allocator has handed out is
   // the leak check, within 2 %: a leak of one session's buffers (about 20 MB) every few rounds
   // fails it many times over, and so do 100 bytes kept per session. The resident size swings by up
-  // to 10 % from one quiet point to the next with what the arenas keep (4.2 % between the medians
-  // once in a 60 s run); it is bounded at 10 %, and its 2 % is shown by longer runs (soak.sh).
+  // to 10 % from one quiet point to the next with what the arenas keep. Since the server keeps
+  // frame messages in the heap (fixed malloc thresholds, d216787), the medians of the thirds
+  // moved by -6.9 to +12.4 % in 9 runs of 60 s on 2026-12-04, with the heap flat (+0.9-1.3 %)
+  // and for servers before and after that day's changes alike; so the resident size is a gross
+  // bound, 25 % (a leak of one session's buffers every few rounds still exceeds it), and its
+  // flatness is shown by longer runs (soak.sh).
   const auto growth = [](const std::vector<size_t>& samples, const char* what) {
     const size_t third = samples.size() / 3;
     auto median = [](std::vector<size_t> v) {
@@ -118,7 +122,7 @@ TEST(Soak, SessionsEndingAtRandomAreAllFreedAndMemoryStaysFlat) {
   };
   std::printf("soak: %d sessions in %d rounds of 2 s\n", sessions.load(), rounds);
   EXPECT_LT(growth(heap, "heap allocated"), 0.02);
-  EXPECT_LT(growth(rss, "resident"), 0.10);
+  EXPECT_LT(growth(rss, "resident"), 0.25);
 }
 
 }  // namespace
