@@ -14,13 +14,15 @@
 # Timing on a shared machine is reported, never judged; the exit code only says the runs worked.
 # NIDEVO_CAPACITY_PHASE: the sessions' send phases, random (default: independent cameras) or
 # aligned (every session's frame at the same instant, the worst case; the tables before
-# 2026-12-03 evening were aligned).
+# 2026-12-03 evening were aligned). NIDEVO_CAPACITY_SERVER: the nidevo-server to measure
+# (default build/bin/nidevo-server), e.g. an older build's for an A/B with the same tester.
 # Usage: scripts/capacity.sh [SECONDS (8)] [PINNED_MAX (4)] [UNPINNED_MAX (6)] [MEMORY_SESSIONS (8)]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-8}" pinned_max="${2:-4}" unpinned_max="${3:-6}" memory_sessions="${4:-8}"
 phase="${NIDEVO_CAPACITY_PHASE:-random}"
 memory_rate="${NIDEVO_CAPACITY_MEMORY_RATE:-5}"
+server_bin="${NIDEVO_CAPACITY_SERVER:-build/bin/nidevo-server}"
 case "$seconds$pinned_max$unpinned_max$memory_sessions$memory_rate" in
   '' | *[!0-9]*)
     echo "capacity.sh: arguments and NIDEVO_CAPACITY_MEMORY_RATE must be whole numbers" >&2
@@ -30,6 +32,7 @@ esac
 for b in nidevo-server nidevo-client nidevo-run; do
   [ -x "build/bin/$b" ] || { echo "capacity.sh: build/bin/$b missing (run scripts/build.sh)" >&2; exit 2; }
 done
+[ -x "$server_bin" ] || { echo "capacity.sh: $server_bin is not an executable" >&2; exit 2; }
 [ "$(nproc)" -ge 2 ] || { echo "capacity.sh: needs 2 CPUs (server on one, tester on the other)" >&2; exit 2; }
 out="${NIDEVO_CAPACITY_OUT:-$(mktemp -d)}"
 mkdir -p "$out"
@@ -77,7 +80,7 @@ core_ms="$(taskset -c 1 build/bin/nidevo-run --frames 60 --threads 1 |
 echo "core: $core_ms ms per frame"
 
 echo "== pinned: server on CPU 1 (1 worker), load tester on CPU 0, 30 Hz sessions"
-start_server taskset -c 1 build/bin/nidevo-server --workers 1
+start_server taskset -c 1 "$server_bin" --workers 1
 build/bin/nidevo-client load --target "$target" --metrics_url "$metrics" --encoding raw --cpus 0 \
   --session_phase "$phase" \
   --sessions "$(seq -s, 1 "$pinned_max")" --session_rate 30 --warmup_s 2 --duration_s "$seconds" \
@@ -86,7 +89,7 @@ stop_server
 table "$out/pinned.csv" "$core_ms"
 
 echo "== unpinned: server (2 workers) and load tester on both CPUs, 30 Hz sessions"
-start_server build/bin/nidevo-server --workers 2
+start_server "$server_bin" --workers 2
 build/bin/nidevo-client load --target "$target" --metrics_url "$metrics" --encoding raw \
   --session_phase "$phase" --sessions "$(seq -s, 1 "$unpinned_max")" --session_rate 30 --warmup_s 2 \
   --duration_s "$seconds" --csv "$out/unpinned.csv" >"$out/unpinned.txt"
@@ -98,7 +101,7 @@ scrape() {  # resident and heap bytes
   curl -s "$metrics" | awk '/^process_resident_memory_bytes /{r=$2} /^nidevo_heap_allocated_bytes /{h=$2}
     END {printf "%.0f %.0f\n", r, h}'
 }
-start_server build/bin/nidevo-server --workers 2
+start_server "$server_bin" --workers 2
 sleep 1
 read -r idle_rss idle_heap <<<"$(scrape)"
 build/bin/nidevo-client load --target "$target" --encoding raw --sessions "$memory_sessions" \

@@ -1,11 +1,14 @@
 #include "frame_pipeline.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "pose_response.hpp"
 
 namespace nidevo::server {
+
+size_t slotsForWorkers(int workers) { return size_t(std::clamp(workers, 1, 3)); }
 
 FramePipeline::FramePipeline(std::mutex* mutex, FrameStages* stages, Policy policy,
                              size_t queue_capacity, size_t slots, FramePipelineHooks hooks)

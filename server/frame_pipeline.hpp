@@ -59,6 +59,11 @@ struct FramePipelineHooks {
   std::function<void(std::unique_lock<std::mutex>)> task_done;
 };
 
+// Slots for a session whose stages run on `workers` threads: one per stage keeps all three busy
+// where three threads can run them, and no more than the threads, since a slot beyond them only
+// holds a frame (about 5 MB at VGA, kept for reuse) that waits.
+size_t slotsForWorkers(int workers);
+
 class FramePipeline {
  public:
   enum class Policy { kBlock, kLatest };

@@ -12,9 +12,6 @@ namespace nidevo::server {
 
 namespace {
 
-// Frames in stage processing at once per session: one per stage keeps all three busy.
-constexpr size_t kSlots = 3;
-
 double secondsBetween(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
@@ -129,11 +126,11 @@ void Session::startPipeline(std::shared_ptr<const FrameDecoder> decoder,
   hooks.queue_changed = [this](int delta) { env_.metrics->queuedFrames(delta); };
   hooks.queue_drained = [this] { startReadIfWanted(); };
   hooks.task_done = [this](std::unique_lock<std::mutex> lock) { taskDone(std::move(lock)); };
-  pipeline_ = std::make_unique<FramePipeline>(&mutex_, stages_.get(),
-                                              policy_ == v1::OVERLOAD_POLICY_LATEST
-                                                  ? FramePipeline::Policy::kLatest
-                                                  : FramePipeline::Policy::kBlock,
-                                              queue_capacity_, kSlots, std::move(hooks));
+  pipeline_ = std::make_unique<FramePipeline>(
+      &mutex_, stages_.get(),
+      policy_ == v1::OVERLOAD_POLICY_LATEST ? FramePipeline::Policy::kLatest
+                                            : FramePipeline::Policy::kBlock,
+      queue_capacity_, slotsForWorkers(env_.pool->size()), std::move(hooks));
   last_activity_ = Clock::now();
   startReadIfWanted();
 }

@@ -186,6 +186,14 @@ TEST(FramePipeline, StageOneOfSeveralFramesRunsAtOnceOnThreads) {
   EXPECT_EQ(h.stages.sequencesOf("translate"), (std::vector<uint64_t>{0, 1, 2}));
 }
 
+TEST(FramePipeline, SlotsFollowTheWorkersUpToOnePerStage) {
+  EXPECT_EQ(slotsForWorkers(1), 1u);  // one thread runs a session's stages one after another
+  EXPECT_EQ(slotsForWorkers(2), 2u);
+  EXPECT_EQ(slotsForWorkers(3), 3u);
+  EXPECT_EQ(slotsForWorkers(16), 3u);  // a session has three stages to keep busy, no more
+  EXPECT_EQ(slotsForWorkers(0), 1u);
+}
+
 TEST(FramePipeline, LatestDropsTheOldestQueuedFrame) {
   ManualExecutor executor;
   Harness h(FramePipeline::Policy::kLatest, 2, 1, [&](auto t) { executor.submit(std::move(t)); });
