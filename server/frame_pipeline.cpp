@@ -44,6 +44,7 @@ void FramePipeline::admit(v1::Frame* frame, Clock::time_point arrival) {
   entry.frame.Swap(frame);  // `frame` takes the entry's old buffers, for its next message
   entry.arrival = arrival;
   hooks_.queue_changed(+1);
+  queue_.releaseIdle(kQueueIdlePushes, [](Queued& idle) { v1::Frame().Swap(&idle.frame); });
 }
 
 bool FramePipeline::acceptsMore() const {

@@ -114,7 +114,11 @@ class FramePipeline {
   bool stopped_ = false;
   bool have_timestamp_ = false;
   double last_timestamp_ = 0;
-  RecyclingQueue<Queued> queue_;  // its frames' byte buffers go round: no allocation per frame
+  // Its frames' byte buffers go round: no allocation per frame. A session's first frames, while
+  // its odometry is built, fill every entry (1.5 MB each at VGA raw), and a steady 30 Hz stream
+  // then needs one: entries unused for this many frames give their buffers back.
+  static constexpr uint64_t kQueueIdlePushes = 64;
+  RecyclingQueue<Queued> queue_;
   std::vector<std::unique_ptr<Slot>> slots_;
   uint64_t next_ticket_ = 0;       // given to the next frame entering stage 1
   uint64_t next_rotation_ = 0;     // ticket stage 2 takes next

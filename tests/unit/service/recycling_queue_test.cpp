@@ -43,6 +43,59 @@ TEST(RecyclingQueue, APoppedElementComesBackWithWhatItHeld) {
   EXPECT_EQ(again.data(), buffer);
 }
 
+TEST(RecyclingQueue, APushTakesTheElementPoppedLast) {
+  RecyclingQueue<std::string> q(4);
+  for (int frame = 0; frame < 20; ++frame) {  // at most two queued at once, 20 times round
+    for (int i = 0; i < 2; ++i) {
+      std::string& entry = q.pushBack();
+      if (entry.empty()) entry.assign(1000, 'x');  // a new buffer, as a parse into it would be
+    }
+    q.popFront();
+    q.popFront();
+  }
+  // A ring would have filled all four; the last-popped-first order filled two.
+  int holding = 0;
+  for (int i = 0; i < 4; ++i) holding += q.pushBack().empty() ? 0 : 1;
+  EXPECT_EQ(holding, 2);
+}
+
+TEST(RecyclingQueue, ElementsABurstFilledGiveTheirBuffersBackWhenIdle) {
+  RecyclingQueue<std::string> q(4);
+  auto push = [&] {
+    std::string& entry = q.pushBack();
+    if (entry.empty()) entry.assign(1000, 'x');
+  };
+  auto release = [](std::string& s) { std::string().swap(s); };
+  for (int i = 0; i < 4; ++i) push();  // a burst: all four hold a buffer
+  for (int i = 0; i < 4; ++i) q.popFront();
+  for (int frame = 0; frame < 10; ++frame) {  // then one at a time
+    push();
+    q.popFront();
+    q.releaseIdle(20, release);
+  }
+  int holding = 0;
+  for (int i = 0; i < 4; ++i) holding += q.pushBack().empty() ? 0 : 1;
+  EXPECT_EQ(holding, 4) << "not idle for 20 pushes yet";
+  for (int i = 0; i < 4; ++i) q.popFront();
+  for (int frame = 0; frame < 30; ++frame) {
+    push();
+    q.popFront();
+    q.releaseIdle(20, release);
+  }
+  holding = 0;
+  for (int i = 0; i < 4; ++i) holding += q.pushBack().empty() ? 0 : 1;
+  EXPECT_EQ(holding, 1) << "the element in use keeps its buffer, the idle ones gave theirs back";
+}
+
+TEST(RecyclingQueue, ElementsStayPutWhileTheQueueGrows) {
+  RecyclingQueue<int> q(1);
+  int* first = &q.pushBack();
+  *first = 7;
+  for (int i = 0; i < 40; ++i) q.pushBack() = i;
+  EXPECT_EQ(&q.front(), first);
+  EXPECT_EQ(q.front(), 7);
+}
+
 TEST(ResponseQueue, TheFrontStaysPutWhilePushesGrowTheQueue) {
   ResponseQueue q;
   v1::TrackResponse r;

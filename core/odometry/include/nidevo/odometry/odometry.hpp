@@ -82,8 +82,10 @@ struct FrameState {
   NormalMap normals;
   // Projection cloud (camera frame), one plane per coordinate; z = 0 where depth is missing.
   std::vector<float> cloud_x, cloud_y, cloud_z;
-  std::vector<float> intensity;      // [0, 1]
   std::vector<float> map_intensity;  // [0, 1], one per normal-map pixel
+  // [0, 1], one per projection point; empty when the projection's stride is the map's (the
+  // projection reads map_intensity then).
+  std::vector<float> intensity;
   // Stage 2 output.
   Eigen::Matrix3d R_world_cam = Eigen::Matrix3d::Identity();
   RotationSource rotation_source = RotationSource::kInitial;
