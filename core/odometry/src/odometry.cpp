@@ -204,8 +204,7 @@ void Odometry::computeNormals(const RgbdFrame& frame, FrameState* s) const {
   const int stride = config_.projection_stride;
   const int W = camera_.width / stride, H = camera_.height / stride;
   for (auto* plane : {&s->cloud_x, &s->cloud_y, &s->cloud_z}) plane->resize(size_t(W) * size_t(H));
-  // The same strides give the same grey values as the map's: not made twice (0.3 MB at VGA).
-  const bool own_intensity = stride != config_.normal_stride;
+  const bool own_intensity = !projectionReadsMapIntensity();
   s->intensity.resize(own_intensity ? size_t(W) * size_t(H) : 0);
   int valid = 0;
   for (int v = 0; v < H; ++v) {
@@ -304,9 +303,8 @@ void Odometry::makeRotationKeyframe(const FrameState& s) {
 }
 
 CloudView Odometry::projectionCloud(const FrameState& s) const {
-  const float* intensity = config_.projection_stride == config_.normal_stride
-                               ? s.map_intensity.data()
-                               : s.intensity.data();
+  const float* intensity =
+      projectionReadsMapIntensity() ? s.map_intensity.data() : s.intensity.data();
   return {s.cloud_x.data(), s.cloud_y.data(), s.cloud_z.data(),
           intensity,        s.cloud_z.size(), point_weight_.data()};
 }

@@ -134,6 +134,11 @@ class Odometry {
   void renewReference(const FrameState& state, const Eigen::Isometry3d& T_out,
                       const Eigen::Isometry3d& T_method);
   CloudView projectionCloud(const FrameState& state) const;
+  // The same strides sample the same grey values: the map's serve the projection too (0.3 MB
+  // less per frame in flight at VGA).
+  bool projectionReadsMapIntensity() const {
+    return config_.projection_stride == config_.normal_stride;
+  }
   void projectForCorrelation(const CloudView& cloud, const Eigen::Matrix3f& R,
                              OrthoImage* image) const;
   const float* depthChannel(const OrthoImage& image, float mean_depth,
