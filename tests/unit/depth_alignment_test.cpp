@@ -254,6 +254,9 @@ TEST_F(DepthAlignmentTest, WeakDirectionsConfirmTheTruePoseAndNotAPlantedOffset)
       aligner_.align(sample_, cur.map, cur.intensity, map_camera, truth, p);
   EXPECT_EQ(right.constrained, 0);
   EXPECT_EQ(right.confirmed, 6);
+  EXPECT_EQ(right.weak_count, 6);
+  EXPECT_TRUE((right.weak_axes.transpose() * right.weak_axes).isIdentity(1e-9))
+      << "the weak axes are the eigenvectors, orthonormal";
   for (const Eigen::Vector3d& offset :
        {Eigen::Vector3d(0.03, 0, 0), Eigen::Vector3d(0, 0, 0.03), Eigen::Vector3d(0, 0.02, 0)}) {
     const Isometry3d planted = truth * motion(0, {0, 1, 0}, offset);

@@ -151,6 +151,36 @@ TEST(Kcc, TwoChannelsRecoverTheShiftOfAFeaturelessGreyImage) {
 
 // A tiling of period 20 x 24 px that repeats exactly around the circular image (160 x 120), so
 // that every shift by a whole period fits exactly as well.
+// An image that varies along u only (the projection of a bare wall's vertical edge) fits every
+// shift along v as well: the response is a ridge along v and stays sharp along u. A textured patch
+// gives a sharp peak both ways; not asked for, nothing is measured.
+TEST(Kcc, TheResponseIsARidgeAlongAnAxisTheImagesLeaveFree) {
+  const auto patch = texture(0, 0);
+  std::vector<float> columns(patch.size());
+  for (int u = 0; u < kW; ++u) {
+    double sum = 0;
+    for (int v = 0; v < kH; ++v) sum += patch[size_t(v) * kW + u];
+    for (int v = 0; v < kH; ++v) columns[size_t(v) * kW + u] = float(sum / kH);
+  }
+  for (const bool free_v : {true, false}) {
+    const auto& x = free_v ? columns : patch;
+    KernelCrossCorrelator kcc(kW, kH, 1, 0.2, 0.1);
+    const float* key[] = {x.data()};
+    kcc.train(key);
+    const auto z = circularShift(x, 4, 3);
+    const float* cur[] = {z.data()};
+    const KccMatch m = kcc.match(cur, false, 5, nullptr, 8);
+    EXPECT_LT(m.ridge_u, 0.5) << (free_v ? "columns" : "patch");
+    if (free_v)
+      EXPECT_GT(m.ridge_v, 0.9);
+    else
+      EXPECT_LT(m.ridge_v, 0.5);
+    const KccMatch plain = kcc.match(cur, false, 5);
+    EXPECT_EQ(plain.ridge_u, 0.0);
+    EXPECT_EQ(plain.ridge_v, 0.0);
+  }
+}
+
 std::vector<float> tiles() {
   std::vector<float> img(size_t(kW) * kH);
   for (int v = 0; v < kH; ++v)

@@ -180,5 +180,25 @@ TEST(WithinPredictionTrust, BoundsRotationAndTranslationApart) {
   EXPECT_FALSE(withinPredictionTrust(turned(1.0), turned(1.31), c));
 }
 
+// A free direction translating along a ridge axis is the KCC's unmeasured value; one turning, or
+// translating across the axis, is not.
+TEST(FreeAlongKccRidge, OnlyTranslationAlongARidgeAxisCounts) {
+  AlignmentResult a;
+  KccRidges ridges;
+  ridges.count = 1;
+  ridges.axis[0] = Eigen::Vector3d::UnitY();
+  EXPECT_FALSE(freeAlongKccRidge(a, ridges)) << "no free direction";
+  a.weak_count = 1;
+  a.weak_axes.col(0) << 0, 0, 0, 0.1, 0.99, 0;  // along y
+  EXPECT_TRUE(freeAlongKccRidge(a, ridges));
+  a.weak_axes.col(0) << 0, 0, 0, 0.99, 0.1, 0;  // along x, across the ridge
+  EXPECT_FALSE(freeAlongKccRidge(a, ridges));
+  a.weak_axes.col(0) << 0.99, 0, 0, 0, 0.1, 0;  // a turn
+  EXPECT_FALSE(freeAlongKccRidge(a, ridges));
+  a.weak_axes.col(0) << 0, 0, 0, 0.1, 0.99, 0;
+  ridges.count = 0;
+  EXPECT_FALSE(freeAlongKccRidge(a, ridges)) << "no ridge";
+}
+
 }  // namespace
 }  // namespace nidevo

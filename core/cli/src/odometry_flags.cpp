@@ -59,6 +59,12 @@ ABSL_FLAG(double, kcc_prior_ratio, shortestDecimal(kDefaults.kcc_prior_ratio),
           "KCC maxima of at least this fraction of the highest compete; the one nearest the "
           "predicted shift wins (1: the highest only)");
 
+ABSL_FLAG(int, kcc_ridge_cells, kDefaults.kcc_ridge_cells,
+          "KCC ridge test: distance from the peak, in projection cells");
+ABSL_FLAG(double, kcc_ridge_ratio, shortestDecimal(kDefaults.kcc_ridge_ratio),
+          "A KCC response still at this fraction of its peak --kcc_ridge_cells away along an "
+          "axis did not measure the translation along it (0: never)");
+
 ABSL_FLAG(int, align_iterations, kDefaults.align_iterations,
           "Pose check: refinement steps on the constrained directions (0: the method's pose is "
           "only checked)");
@@ -135,6 +141,8 @@ OdometryConfig odometryConfigFromFlags() {
   c.rotation_keyframe_interval = absl::GetFlag(FLAGS_rotation_keyframe_interval);
   c.psr_bound = float(absl::GetFlag(FLAGS_psr_bound));
   c.kcc_prior_ratio = float(absl::GetFlag(FLAGS_kcc_prior_ratio));
+  c.kcc_ridge_cells = absl::GetFlag(FLAGS_kcc_ridge_cells);
+  c.kcc_ridge_ratio = float(absl::GetFlag(FLAGS_kcc_ridge_ratio));
   c.predicted_association = absl::GetFlag(FLAGS_predicted_association);
   c.align_iterations = absl::GetFlag(FLAGS_align_iterations);
   c.align_converged_m = float(absl::GetFlag(FLAGS_align_converged));

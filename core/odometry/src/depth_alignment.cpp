@@ -305,6 +305,7 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
     Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
     res.constrained = 0;
     res.confirmed = 0;
+    res.weak_count = 0;
     res.free_rotation = res.free_translation = false;
     for (int k = 0; k < 6; ++k) {
       const double lambda = eig.eigenvalues()(k);
@@ -320,6 +321,7 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
         if (prm.confirm_eigenvalue > 0 && lambda >= prm.confirm_eigenvalue &&
             std::abs(moved) <= prm.confirm_step_m)
           ++res.confirmed;
+        res.weak_axes.col(res.weak_count++) = vk;
         const bool rotational = vk.head<3>().squaredNorm() > 0.5;
         (rotational ? res.free_rotation : res.free_translation) = true;
         continue;

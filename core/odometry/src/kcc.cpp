@@ -229,7 +229,8 @@ void KernelCrossCorrelator::train(const float* const* channels) {
 }
 
 KccMatch KernelCrossCorrelator::match(const float* const* channels, bool subpixel,
-                                      int psr_exclusion, const KccShiftPrior* prior) {
+                                      int psr_exclusion, const KccShiftPrior* prior,
+                                      int ridge_cells) {
   correlate(channels);
   const int W = width_;
   size_t best = firstMaximum(response_, n_real_);
@@ -241,6 +242,11 @@ KccMatch KernelCrossCorrelator::match(const float* const* channels, bool subpixe
   m.dv = signedShift(pv, height_);
   if (subpixel) addSubpixelOffset(pu, pv, &m.du, &m.dv);
   m.psr = peakToSidelobe(pu, pv, m.peak, psr_exclusion);
+  if (ridge_cells > 0 && m.peak > 0) {
+    const int r = ridge_cells;
+    m.ridge_u = std::max(responseAt(pu + r, pv), responseAt(pu - r, pv)) / m.peak;
+    m.ridge_v = std::max(responseAt(pu, pv + r), responseAt(pu, pv - r)) / m.peak;
+  }
   return m;
 }
 

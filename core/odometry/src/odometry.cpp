@@ -368,6 +368,7 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
   Isometry3d T = Isometry3d::Identity();
   T.linear() = s->R_world_cam;
   const char* translation_problem = nullptr;
+  KccRidges ridges;
   if (!s->depth_ok) {
     T.translation() = T_pred.translation();
     translation_problem = "too little valid depth; pose predicted";
@@ -376,7 +377,7 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
     makeTranslationKeyframe(*s, T);
     out.translation_keyframe = t.has_keyframe;
   } else {
-    translation_problem = matchTranslationKeyframe(*s, T_pred, &T, &out);
+    translation_problem = matchTranslationKeyframe(*s, T_pred, &T, &out, &ridges);
   }
   out.projection_resolution = t.resolution;
   const char* method_problem = methodProblem(*s, translation_problem);
@@ -384,7 +385,7 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
   // A KCC match with rivals nearly as high chose its peak by the prediction: not a measurement.
   const bool translation_measured =
       s->depth_ok && translation_problem == nullptr && out.kcc_rival_peaks == 0;
-  verifyPose(*s, T, method_problem, translation_measured, &out);
+  verifyPose(*s, T, method_problem, translation_measured, ridges, &out);
   s->times.translation_s = secondsSince(t0);
   out.times = s->times;
   return out;
@@ -394,7 +395,8 @@ PoseEstimate Odometry::estimateTranslation(FrameState* s) {
 // correlated with the keyframe (KCC shift in the image plane), then the depth shift along the
 // axis. Renews the keyframe when the match is weak (PSR at or below psr_bound).
 const char* Odometry::matchTranslationKeyframe(const FrameState& s, const Isometry3d& T_pred,
-                                               Isometry3d* T, PoseEstimate* out) {
+                                               Isometry3d* T, PoseEstimate* out,
+                                               KccRidges* ridges) {
   TranslationState& t = *trans_;
   const Matrix3d R_key_cur = t.T_world_key.linear().transpose() * s.R_world_cam;
   projectForCorrelation(projectionCloud(s), R_key_cur.cast<float>(), &t.cur);
@@ -406,10 +408,20 @@ const char* Odometry::matchTranslationKeyframe(const FrameState& s, const Isomet
   const Eigen::Vector3d t_key_pred = (t.T_world_key.inverse() * T_pred).translation();
   const KccShiftPrior prior{-t_key_pred.x() / t.resolution, -t_key_pred.y() / t.resolution,
                             config_.kcc_prior_ratio};
-  const KccMatch m = t.kcc.match(channels, config_.subpixel_peak, config_.psr_exclusion,
-                                 config_.kcc_prior_ratio < 1.f ? &prior : nullptr);
+  const KccMatch m =
+      t.kcc.match(channels, config_.subpixel_peak, config_.psr_exclusion,
+                  config_.kcc_prior_ratio < 1.f ? &prior : nullptr, config_.kcc_ridge_cells);
   out->psr = m.psr;
   out->kcc_rival_peaks = m.rival_peaks;
+  out->kcc_ridge_u = m.ridge_u;
+  out->kcc_ridge_v = m.ridge_v;
+  // The projection's u and v are the keyframe camera's x and y.
+  if (config_.kcc_ridge_ratio > 0) {
+    if (m.ridge_u >= config_.kcc_ridge_ratio)
+      ridges->axis[ridges->count++] = R_key_cur.transpose() * Eigen::Vector3d::UnitX();
+    if (m.ridge_v >= config_.kcc_ridge_ratio)
+      ridges->axis[ridges->count++] = R_key_cur.transpose() * Eigen::Vector3d::UnitY();
+  }
   DepthShift dz;
   if (m.psr >= config_.psr_min)
     dz = t.depth_shift.estimate(t.key, t.cur, m.du, m.dv, t.depth_params);

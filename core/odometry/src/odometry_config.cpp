@@ -60,6 +60,8 @@ std::string OdometryConfig::validate() const {
   if (!in(psr_bound, 0, 1e6)) return "psr_bound must be non-negative";
   if (!in(psr_min, 0, 1e6) || psr_min > psr_bound) return "psr_min must be in [0, psr_bound]";
   if (!(kcc_prior_ratio > 0 && kcc_prior_ratio <= 1)) return "kcc_prior_ratio must be in (0, 1]";
+  if (kcc_ridge_cells < 1 || kcc_ridge_cells > 64) return "kcc_ridge_cells must be in [1, 64]";
+  if (!in(kcc_ridge_ratio, 0, 1)) return "kcc_ridge_ratio must be in [0, 1]";
   if (!in(depth_gray_tolerance, 0, 1)) return "depth_gray_tolerance must be in [0, 1]";
   if (!in(depth_inlier_m, 1e-4, 10)) return "depth_inlier_m must be in [1e-4, 10]";
   if (!in(depth_max_slope, 0, 100)) return "depth_max_slope must be in [0, 100]";

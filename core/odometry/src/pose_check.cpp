@@ -48,6 +48,15 @@ bool directionsTrusted(const AlignmentResult& best, const Eigen::Isometry3d& T_r
          (!best.free_translation || origin.translation_measured);
 }
 
+bool freeAlongKccRidge(const AlignmentResult& best, const KccRidges& ridges) {
+  for (int k = 0; k < best.weak_count; ++k) {
+    const Eigen::Vector3d translation = best.weak_axes.col(k).tail<3>();
+    for (int a = 0; a < ridges.count; ++a)
+      if (std::abs(translation.dot(ridges.axis[a])) > 0.5) return true;
+  }
+  return false;
+}
+
 void PredictionRecord::verified(const Eigen::Isometry3d& T_predicted,
                                 const Eigen::Isometry3d& T_verified) {
   const Eigen::Isometry3d d = T_predicted.inverse() * T_verified;

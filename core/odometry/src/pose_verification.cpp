@@ -45,7 +45,7 @@ void Odometry::renewReference(const FrameState& s, const Isometry3d& T_out,
 
 void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
                           const char* method_problem, bool translation_measured,
-                          PoseEstimate* out) {
+                          const KccRidges& ridges, PoseEstimate* out) {
   VerificationState& v = *verify_;
   out->state = TrackingState::kOk;
   out->reason = "";
@@ -107,7 +107,11 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   // that is the method's own, and the method measured that kind of motion.
   const HypothesisOrigin origin{hypothesis == names[0],
                                 s.rotation_source == RotationSource::kPlanes, translation_measured};
-  const bool free_direction_trusted = directionsTrusted(best, predicted, origin, config_);
+  // A direction left free holds the KCC's value there: no measurement where its response was a
+  // ridge (a bare wall slides along it in the projection).
+  const bool kcc_ridge_free = origin.from_method && freeAlongKccRidge(best, ridges);
+  const bool free_direction_trusted =
+      !kcc_ridge_free && directionsTrusted(best, predicted, origin, config_);
   if (!verdict.passed) {
     out->state = TrackingState::kDegraded;
     out->reason = verdict.reason;
@@ -126,7 +130,11 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
         v.prediction.reliable(config_) && withinPredictionTrust(best.T_ref_cur, predicted, config_);
     if (!out->verification.predicted_directions) {
       out->state = TrackingState::kDegraded;
-      out->reason = method_problem ? method_problem : "geometry leaves a direction unverified";
+      out->reason = method_problem ? method_problem
+                    : kcc_ridge_free
+                        ? "geometry leaves a direction unverified that the KCC did not measure "
+                          "(its response is a ridge along it)"
+                        : "geometry leaves a direction unverified";
     }
   }
   if (out->state == TrackingState::kDegraded && ++v.degraded_frames > config_.max_degraded_frames)

@@ -91,7 +91,11 @@ struct AlignmentResult {
   int constrained = 0;           // directions (of 6) the geometry fixed in the last step
   int depth_constrained = 0;     // ... that depth alone fixed (the rest needed grey values)
   int confirmed = 0;             // weak directions the data left at the hypothesis' value
-  int steps = 0;                 // Gauss-Newton steps taken, depth and grey-value passes
+  // The weak directions of the last step, as columns: unit twists [rotation * mean depth,
+  // translation], so that a step of s along one moves the surface about s metres.
+  Eigen::Matrix<double, 6, 6> weak_axes = Eigen::Matrix<double, 6, 6>::Zero();
+  int weak_count = 0;
+  int steps = 0;  // Gauss-Newton steps taken, depth and grey-value passes
   // Where depth alone fixed all six directions, how far apart the poses lie that depth alone and
   // grey values alone fit best (rotation in rad, translation in m; grey values stepped from the
   // polished pose to their optimum): 0 when the sensors agree, more when they measured

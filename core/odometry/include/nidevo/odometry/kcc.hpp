@@ -16,6 +16,11 @@ struct KccMatch {
   // exclusion apart from the chosen peak: another shift that fits almost as well (a periodic
   // texture's next period). 0 without a prior.
   int rival_peaks = 0;
+  // The response ridge_cells from the peak along u and along v (the higher side), as a fraction
+  // of the peak: near 1 where the images leave the shift free along that axis (the projection
+  // of a bare wall slides along it), low where the peak is sharp. 0 when not asked for.
+  double ridge_u = 0;
+  double ridge_v = 0;
 };
 
 // Where the motion model expects the peak. Among the local maxima of at least `ratio` times the
@@ -46,7 +51,7 @@ class KernelCrossCorrelator {
   void train(const float* const* channels);
   bool trained() const { return trained_; }
   KccMatch match(const float* const* channels, bool subpixel, int psr_exclusion,
-                 const KccShiftPrior* prior = nullptr);
+                 const KccShiftPrior* prior = nullptr, int ridge_cells = 0);
   // The last match's response (width*height, peak at the shift), for tests and debugging.
   const float* response() const { return response_; }
 

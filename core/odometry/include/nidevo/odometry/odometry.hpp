@@ -64,6 +64,8 @@ struct PoseEstimate {
   const char* reason = "";  // static text; empty when OK
   double psr = 0;
   int kcc_rival_peaks = 0;  // other KCC maxima nearly as high (KccMatch::rival_peaks)
+  double kcc_ridge_u = 0;   // KccMatch::ridge_u and ridge_v
+  double kcc_ridge_v = 0;
   int planes_used = 0;
   RotationSource rotation_source = RotationSource::kInitial;
   bool rotation_keyframe = false;
@@ -95,6 +97,8 @@ struct FrameState {
   StageTimes times;
 };
 
+struct KccRidges;  // pose_check.hpp
+
 class Odometry {
  public:
   // Throws std::invalid_argument naming the bad field of the camera or the config.
@@ -124,13 +128,15 @@ class Odometry {
   void makeTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_world_cam);
   // Returns why the translation was predicted instead, or nullptr; sets *T_world_cam.
   const char* matchTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_pred,
-                                       Eigen::Isometry3d* T_world_cam, PoseEstimate* out);
+                                       Eigen::Isometry3d* T_world_cam, PoseEstimate* out,
+                                       KccRidges* ridges);
   // Why the method's own estimate is weak (a stage fell back to the prediction), or nullptr.
   const char* methodProblem(const FrameState& state, const char* translation_problem) const;
   // Checks (and refines) the method's pose against the reference frame, tries the prediction
   // when it fails, and decides the state; sets out->T_world_cam.
   void verifyPose(const FrameState& state, const Eigen::Isometry3d& T_method,
-                  const char* method_problem, bool translation_measured, PoseEstimate* out);
+                  const char* method_problem, bool translation_measured, const KccRidges& ridges,
+                  PoseEstimate* out);
   void renewReference(const FrameState& state, const Eigen::Isometry3d& T_out,
                       const Eigen::Isometry3d& T_method);
   CloudView projectionCloud(const FrameState& state) const;

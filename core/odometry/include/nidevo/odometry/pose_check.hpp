@@ -35,6 +35,17 @@ struct HypothesisOrigin {
   bool translation_measured = false;  // from a confident, unrivalled KCC match
 };
 
+// Translation axes (unit, in the current camera's frame) along which the KCC response was a
+// ridge (KccMatch::ridge_u, ridge_v): the method did not measure the translation along them.
+struct KccRidges {
+  int count = 0;
+  Eigen::Vector3d axis[2];
+};
+
+// Whether a direction the alignment left free (AlignmentResult::weak_axes) translates mostly
+// along a ridge axis: there the pose holds the KCC's value, and the KCC had none to give.
+bool freeAlongKccRidge(const AlignmentResult& best, const KccRidges& ridges);
+
 // Whether a passing alignment's pose is right in every direction. Depth fixes a direction for
 // certain; grey values may fix it a texture period away, a weak direction the data confirmed
 // (AlignmentResult::confirmed) may be an alias too, and a direction left free has only the
