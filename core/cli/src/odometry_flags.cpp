@@ -59,6 +59,8 @@ ABSL_FLAG(double, kcc_prior_ratio, shortestDecimal(kDefaults.kcc_prior_ratio),
           "KCC maxima of at least this fraction of the highest compete; the one nearest the "
           "predicted shift wins (1: the highest only)");
 
+ABSL_FLAG(bool, prediction_settles_ties, kDefaults.prediction_settles_ties,
+          "A periodic pattern's tie settled by a motion prediction right on recent frames is OK");
 ABSL_FLAG(int, kcc_ridge_cells, kDefaults.kcc_ridge_cells,
           "KCC ridge test: distance from the peak, in projection cells");
 ABSL_FLAG(double, kcc_ridge_ratio, shortestDecimal(kDefaults.kcc_ridge_ratio),
@@ -141,6 +143,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.rotation_keyframe_interval = absl::GetFlag(FLAGS_rotation_keyframe_interval);
   c.psr_bound = float(absl::GetFlag(FLAGS_psr_bound));
   c.kcc_prior_ratio = float(absl::GetFlag(FLAGS_kcc_prior_ratio));
+  c.prediction_settles_ties = absl::GetFlag(FLAGS_prediction_settles_ties);
   c.kcc_ridge_cells = absl::GetFlag(FLAGS_kcc_ridge_cells);
   c.kcc_ridge_ratio = float(absl::GetFlag(FLAGS_kcc_ridge_ratio));
   c.predicted_association = absl::GetFlag(FLAGS_predicted_association);

@@ -112,9 +112,15 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   const bool kcc_ridge_free = origin.from_method && freeAlongKccRidge(best, ridges);
   const bool free_direction_trusted =
       !kcc_ridge_free && directionsTrusted(best, predicted, origin, config_);
+  bool tie_settled = false;
   if (!verdict.passed) {
     out->state = TrackingState::kDegraded;
     out->reason = verdict.reason;
+  } else if ((choice.overruled || ambiguous) && config_.prediction_settles_ties &&
+             v.prediction.reliable(config_) &&
+             withinPredictionTrust(best.T_ref_cur, predicted, config_)) {
+    out->verification.predicted_directions = true;
+    tie_settled = true;
   } else if (choice.overruled) {
     out->state = TrackingState::kDegraded;
     out->reason =
@@ -139,16 +145,19 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   }
   if (out->state == TrackingState::kDegraded && ++v.degraded_frames > config_.max_degraded_frames)
     out->state = TrackingState::kLost;
-  if (out->state == TrackingState::kOk) {
-    v.degraded_frames = 0;
-  } else if (best.overlapFraction() >= config_.verify_min_overlap) {
+  if (out->state == TrackingState::kOk) v.degraded_frames = 0;
+  // A settled tie is refined as it would be unsettled, so that the status rule changes no pose.
+  if ((out->state != TrackingState::kOk || tie_settled) &&
+      best.overlapFraction() >= config_.verify_min_overlap) {
     // A pose already reported unverified may still be bettered along what it leaves free: the
     // status stays, the pose and so the next prediction improve, and the figures are the pose's.
     const AlignmentResult refined =
         v.aligner.refineAlongWeakDirections(v.reference, v.target, v.map_camera, best, v.params);
     if (refined.T_ref_cur.matrix() != best.T_ref_cur.matrix()) {
       out->T_world_cam = v.T_out_ref * refined.T_ref_cur;
+      const bool predicted_directions = out->verification.predicted_directions;
       out->verification = summary(refined, hypothesis, judgeAlignment(refined, config_).passed);
+      out->verification.predicted_directions = predicted_directions;
     }
   }
   // Only a pose the data fixed measures the motion; one that took the prediction's value would

@@ -136,6 +136,9 @@ struct OdometryConfig {
   int prediction_trust_gap = 3;
   float prediction_trust_rad = 0.0052359878f;  // 0.3 deg
   float prediction_trust_m = 0.015f;
+  // The same trusted prediction also settles a periodic pattern's tie (two poses fit alike, or a
+  // better fit far away rests on grey values alone) when the pose kept lies within its bounds.
+  bool prediction_settles_ties = true;
   // A pose not verified still measures the motion along what depth fixed: when it passed the
   // check from the prediction's hypothesis with at least this many of its 6 directions fixed by
   // depth, it updates the motion model's velocity. Along the rest it holds the prediction's own
