@@ -112,13 +112,17 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   const bool kcc_ridge_free = origin.from_method && freeAlongKccRidge(best, ridges);
   const bool free_direction_trusted =
       !kcc_ridge_free && directionsTrusted(best, predicted, origin, config_);
+  // A prediction right on the recent verified frames, and the pose within its bounds.
+  const auto prediction_vouches = [&] {
+    return v.prediction.reliable(config_) &&
+           withinPredictionTrust(best.T_ref_cur, predicted, config_);
+  };
   bool tie_settled = false;
   if (!verdict.passed) {
     out->state = TrackingState::kDegraded;
     out->reason = verdict.reason;
   } else if ((choice.overruled || ambiguous) && config_.prediction_settles_ties &&
-             v.prediction.reliable(config_) &&
-             withinPredictionTrust(best.T_ref_cur, predicted, config_)) {
+             prediction_vouches()) {
     out->verification.predicted_directions = true;
     tie_settled = true;
   } else if (choice.overruled) {
@@ -132,8 +136,7 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   } else if (!free_direction_trusted) {
     // The free direction holds the hypothesis' value: as good as the prediction when it agrees
     // with a prediction that has been right lately.
-    out->verification.predicted_directions =
-        v.prediction.reliable(config_) && withinPredictionTrust(best.T_ref_cur, predicted, config_);
+    out->verification.predicted_directions = prediction_vouches();
     if (!out->verification.predicted_directions) {
       out->state = TrackingState::kDegraded;
       out->reason = method_problem ? method_problem

@@ -75,7 +75,7 @@ struct OdometryConfig {
   // the projection did not measure the translation along that axis: a direction the pose check
   // leaves free along it is then not the method's measurement (0: never). Off by default: at 0.6
   // it caught 1 of 4 silent failures on never-seen seeds and demoted 94 good frames (README,
-  // "Tried and not kept").
+  // "Never-seen seeds 40-59").
   int kcc_ridge_cells = 8;
   float kcc_ridge_ratio = 0.0f;
   float depth_gray_tolerance = 0.1f;  // Eq. 18 inlier test on intensity
