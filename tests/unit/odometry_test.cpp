@@ -311,6 +311,9 @@ TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
   bad.align_step_inlier_slack = 0.9f;
   EXPECT_NE(bad.validate().find("align_step_inlier_slack"), std::string::npos);
   bad = OdometryConfig{};
+  bad.recovery_min_depth_directions = 7;
+  EXPECT_NE(bad.validate().find("recovery_min_depth_directions"), std::string::npos);
+  bad = OdometryConfig{};
   bad.plane_pixel_step = 0;
   EXPECT_NE(bad.validate().find("plane_pixel_step"), std::string::npos);
   bad = OdometryConfig{};

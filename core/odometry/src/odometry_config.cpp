@@ -104,6 +104,8 @@ std::string OdometryConfig::validate() const {
     return "unverified_motion_min_directions must be in 1..7";
   if (!in(min_valid_depth_fraction, 0, 1)) return "min_valid_depth_fraction must be in [0, 1]";
   if (max_degraded_frames < 1) return "max_degraded_frames must be at least 1";
+  if (recovery_min_depth_directions < 0 || recovery_min_depth_directions > 6)
+    return "recovery_min_depth_directions must be in 0..6";
   return {};
 }
 

@@ -56,6 +56,7 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     ++v.degraded_frames;
     v.motion.update(out->T_world_cam, false, s.timestamp);
     v.prediction.unverified();
+    v.recovering = true;
     return;
   }
   if (!v.has_reference) {
@@ -149,6 +150,7 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   if (out->state == TrackingState::kDegraded && ++v.degraded_frames > config_.max_degraded_frames)
     out->state = TrackingState::kLost;
   if (out->state == TrackingState::kOk) v.degraded_frames = 0;
+  if (out->state == TrackingState::kLost) v.recovering = true;
   // A settled tie is refined as it would be unsettled, so that the status rule changes no pose.
   if ((out->state != TrackingState::kOk || tie_settled) &&
       best.overlapFraction() >= config_.verify_min_overlap) {
@@ -192,6 +194,17 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     out->reason =
         "depth and grey values disagree on the rotation (colour and depth out of step, "
         "motion blur?)";
+  }
+  // Likewise last: back from LOST, the check's minimum was found from hypotheses the lost stretch
+  // left far off, where a wrong minimum can fit both sensors; until the prediction has been right
+  // again, only depth fixing every direction says the pose is right.
+  if (v.recovering && v.prediction.reliable(config_)) v.recovering = false;
+  if (out->state == TrackingState::kOk && v.recovering &&
+      best.depth_constrained < config_.recovery_min_depth_directions) {
+    out->state = TrackingState::kDegraded;
+    out->reason =
+        "recovering from LOST: depth leaves a direction free and the motion prediction has not "
+        "been right again yet";
   }
 }
 

@@ -27,6 +27,7 @@ struct Odometry::VerificationState {
   Eigen::Isometry3d T_method_ref = Eigen::Isometry3d::Identity();  // the method's own chain
   int frames_since_reference = 0;
   int degraded_frames = 0;  // consecutive; LOST beyond max_degraded_frames
+  bool recovering = false;  // a frame was LOST, and the prediction not yet reliable since
   MotionModel motion;       // of the reported poses; measured: verified
   PredictionRecord prediction;
   DepthAligner aligner;

@@ -151,6 +151,12 @@ struct OdometryConfig {
   // Tracking state.
   float min_valid_depth_fraction = 0.05f;
   int max_degraded_frames = 30;  // consecutive DEGRADED frames before LOST
+  // After a LOST frame, until the motion prediction has been right again on recent verified
+  // frames (prediction_trust_*), a frame is OK only where depth fixed at least this many of its
+  // 6 directions: the pose check's minimum, found from a hypothesis the lost stretch left far off,
+  // may be a wrong one that depth and grey values agree on. The pose is unchanged (0: never;
+  // README "Accuracy").
+  int recovery_min_depth_directions = 6;
 
   // Empty when valid, else a message naming the bad field.
   [[nodiscard]] std::string validate() const;
