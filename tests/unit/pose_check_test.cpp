@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 namespace nidevo {
 namespace {
 
@@ -198,6 +200,83 @@ TEST(FreeAlongKccRidge, OnlyTranslationAlongARidgeAxisCounts) {
   a.weak_axes.col(0) << 0, 0, 0, 0.1, 0.99, 0;
   ridges.count = 0;
   EXPECT_FALSE(freeAlongKccRidge(a, ridges)) << "no ridge";
+}
+
+// The status rules on evidence with known answers: the method's pose, near a still prediction.
+class DecideStatusTest : public ::testing::Test {
+ protected:
+  StatusDecision decide(const AlignmentResult& best) {
+    evidence_.best = &best;
+    evidence_.verdict = judgeAlignment(best, config_);
+    return decideStatus(evidence_, config_);
+  }
+  OdometryConfig config_;
+  StatusEvidence evidence_ = [] {
+    StatusEvidence e;
+    e.origin = {true, true, true};
+    return e;
+  }();
+};
+
+TEST_F(DecideStatusTest, APoseDepthFixesEverywhereIsOkWithoutThePrediction) {
+  const StatusDecision d = decide(passing(shifted(0.002), 950, 6));
+  EXPECT_TRUE(d.ok);
+  EXPECT_FALSE(d.predicted_directions);
+  EXPECT_FALSE(d.tie_settled);
+}
+
+TEST_F(DecideStatusTest, AFailedCheckIsNotOkAndSaysWhy) {
+  AlignmentResult a = passing(shifted(0.002), 500, 6);  // half the points disagree
+  const StatusDecision d = decide(a);
+  EXPECT_FALSE(d.ok);
+  EXPECT_STREQ(d.reason, "pose failed verification: depth disagrees with the pose");
+}
+
+TEST_F(DecideStatusTest, ATieIsSettledOnlyByAReliablePredictionNearThePose) {
+  evidence_.choice.ambiguous = true;
+  const AlignmentResult near = passing(shifted(0.005), 950, 6);
+  StatusDecision d = decide(near);
+  EXPECT_FALSE(d.ok) << "no reliable prediction";
+  EXPECT_NE(std::string(d.reason).find("two poses fit equally"), std::string::npos);
+  evidence_.prediction_reliable = true;
+  d = decide(near);
+  EXPECT_TRUE(d.ok);
+  EXPECT_TRUE(d.tie_settled);
+  EXPECT_TRUE(d.predicted_directions);
+  d = decide(passing(shifted(0.03), 950, 6));  // beyond prediction_trust_m of it
+  EXPECT_FALSE(d.ok);
+  config_.prediction_settles_ties = false;
+  EXPECT_FALSE(decide(near).ok);
+  evidence_.choice = {0, false, true};  // overruled
+  EXPECT_NE(std::string(decide(near).reason).find("a better fit far"), std::string::npos);
+}
+
+TEST_F(DecideStatusTest, AFreeDirectionIsTheMethodsWhereItMeasuredItElseThePredictions) {
+  AlignmentResult a = passing(shifted(0.005), 950, 5);
+  a.constrained = 5;
+  a.free_translation = true;
+  EXPECT_TRUE(decide(a).ok) << "the method measured its translation";
+  evidence_.origin.translation_measured = false;
+  evidence_.method_problem = "low PSR; translation predicted";
+  StatusDecision d = decide(a);
+  EXPECT_FALSE(d.ok);
+  EXPECT_STREQ(d.reason, "low PSR; translation predicted");
+  evidence_.prediction_reliable = true;
+  d = decide(a);
+  EXPECT_TRUE(d.ok);
+  EXPECT_TRUE(d.predicted_directions);
+  EXPECT_FALSE(d.tie_settled);
+  // Measured, but along the KCC's ridge: not the method's measurement.
+  evidence_.origin.translation_measured = true;
+  evidence_.prediction_reliable = false;
+  evidence_.method_problem = nullptr;
+  a.weak_count = 1;
+  a.weak_axes.col(0) << 0, 0, 0, 1, 0, 0;
+  evidence_.ridges.count = 1;
+  evidence_.ridges.axis[0] = Eigen::Vector3d::UnitX();
+  d = decide(a);
+  EXPECT_FALSE(d.ok);
+  EXPECT_NE(std::string(d.reason).find("ridge"), std::string::npos);
 }
 
 }  // namespace

@@ -141,4 +141,44 @@ HypothesisChoice chooseHypothesis(const AlignmentResult* results, const CheckVer
   return choice;
 }
 
+StatusDecision decideStatus(const StatusEvidence& e, const OdometryConfig& c) {
+  StatusDecision d;
+  const auto degraded = [&d](const char* reason) {
+    d.ok = false;
+    d.reason = reason;
+    return d;
+  };
+  if (!e.verdict.passed) return degraded(e.verdict.reason);
+  const bool prediction_vouches =
+      e.prediction_reliable && withinPredictionTrust(e.best->T_ref_cur, e.T_ref_predicted, c);
+  if (e.choice.overruled || e.choice.ambiguous) {
+    if (c.prediction_settles_ties && prediction_vouches) {
+      d.predicted_directions = true;
+      d.tie_settled = true;
+      return d;
+    }
+    return degraded(e.choice.overruled
+                        ? "a better fit far from the prediction rests on grey values alone (a "
+                          "periodic pattern?); the pose near the prediction kept"
+                        : "two poses fit equally (a periodic pattern?); the one nearer the "
+                          "prediction kept");
+  }
+  // Along a direction the geometry leaves free the pose is the hypothesis': trusted only when
+  // that is the method's own, and the method measured that kind of motion; not where the KCC's
+  // response was a ridge along it (a bare wall slides along it in the projection).
+  const bool kcc_ridge_free = e.origin.from_method && freeAlongKccRidge(*e.best, e.ridges);
+  if (!kcc_ridge_free && directionsTrusted(*e.best, e.T_ref_predicted, e.origin, c)) return d;
+  // The free direction holds the hypothesis' value: as good as the prediction when it agrees
+  // with a prediction that has been right lately.
+  if (prediction_vouches) {
+    d.predicted_directions = true;
+    return d;
+  }
+  return degraded(e.method_problem ? e.method_problem
+                  : kcc_ridge_free
+                      ? "geometry leaves a direction unverified that the KCC did not measure (its "
+                        "response is a ridge along it)"
+                      : "geometry leaves a direction unverified");
+}
+
 }  // namespace nidevo

@@ -2,6 +2,7 @@
 // and verified against the reference frame's surface; the prediction is the fallback.
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include "nidevo/odometry/odometry.hpp"
 #include "nidevo/odometry/pose_check.hpp"
@@ -50,13 +51,7 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   out->state = TrackingState::kOk;
   out->reason = "";
   if (!s.depth_ok) {
-    out->T_world_cam = v.has_reference ? v.motion.predict(s.timestamp) : T_method;
-    out->state = TrackingState::kLost;
-    out->reason = method_problem;
-    ++v.degraded_frames;
-    v.motion.update(out->T_world_cam, false, s.timestamp);
-    v.prediction.unverified();
-    v.recovering = true;
+    reportLostWithoutDepth(s, T_method, method_problem, out);
     return;
   }
   if (!v.has_reference) {
@@ -65,6 +60,50 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     v.motion.update(T_method, true, s.timestamp);
     return;
   }
+  const CheckedPose checked = checkHypotheses(s, T_method, method_problem, translation_measured);
+  out->T_world_cam = v.T_out_ref * checked.best.T_ref_cur;
+  out->verification = summary(checked.best, checked.hypothesis, checked.verdict.passed);
+  StatusEvidence evidence;
+  evidence.best = &checked.best;
+  evidence.verdict = checked.verdict;
+  evidence.choice = checked.choice;
+  evidence.origin = checked.origin;
+  evidence.T_ref_predicted = checked.T_ref_predicted;
+  evidence.ridges = ridges;
+  evidence.prediction_reliable = v.prediction.reliable(config_);
+  evidence.method_problem = method_problem;
+  const StatusDecision status = decideStatus(evidence, config_);
+  out->verification.predicted_directions = status.predicted_directions;
+  if (!status.ok) {
+    out->state = TrackingState::kDegraded;
+    out->reason = status.reason;
+  }
+  if (out->state == TrackingState::kDegraded && ++v.degraded_frames > config_.max_degraded_frames)
+    out->state = TrackingState::kLost;
+  if (out->state == TrackingState::kOk) v.degraded_frames = 0;
+  if (out->state == TrackingState::kLost) v.recovering = true;
+  // A settled tie is refined as it would be unsettled, so that the status rule changes no pose.
+  if (out->state != TrackingState::kOk || status.tie_settled) refineUnverified(checked, out);
+  updateMotion(s, checked, T_method, out);
+  applyLateStatusRules(checked, out);
+}
+
+void Odometry::reportLostWithoutDepth(const FrameState& s, const Isometry3d& T_method,
+                                      const char* method_problem, PoseEstimate* out) {
+  VerificationState& v = *verify_;
+  out->T_world_cam = v.has_reference ? v.motion.predict(s.timestamp) : T_method;
+  out->state = TrackingState::kLost;
+  out->reason = method_problem;
+  ++v.degraded_frames;
+  v.motion.update(out->T_world_cam, false, s.timestamp);
+  v.prediction.unverified();
+  v.recovering = true;
+}
+
+Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isometry3d& T_method,
+                                                const char* method_problem,
+                                                bool translation_measured) {
+  VerificationState& v = *verify_;
   // Hypotheses in the reference's frame, the method's first: on the common path it passes and
   // the others are never tried.
   const Isometry3d hypotheses[] = {v.T_method_ref.inverse() * T_method,
@@ -85,91 +124,48 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
         !farApart(results[0].T_ref_cur, predicted, config_))
       break;
   }
+  const bool rotation_measured = s.rotation_source == RotationSource::kPlanes;
   HypothesisOrigin origins[3];
-  for (int h = 0; h < tried; ++h)
-    origins[h] = {h == 0, s.rotation_source == RotationSource::kPlanes, translation_measured};
-  const HypothesisChoice choice =
-      chooseHypothesis(results, verdicts, origins, tried, predicted, config_);
-  const int chosen = choice.index;
-  const bool ambiguous = choice.ambiguous;
-  AlignmentResult best = results[chosen];
-  CheckVerdict verdict = verdicts[chosen];
-  const char* hypothesis = names[chosen];
-  if (best.overlapFraction() < config_.verify_min_overlap) {
+  for (int h = 0; h < tried; ++h) origins[h] = {h == 0, rotation_measured, translation_measured};
+  CheckedPose c;
+  c.choice = chooseHypothesis(results, verdicts, origins, tried, predicted, config_);
+  c.best = results[c.choice.index];
+  c.verdict = verdicts[c.choice.index];
+  c.hypothesis = names[c.choice.index];
+  c.T_ref_predicted = predicted;
+  if (c.best.overlapFraction() < config_.verify_min_overlap) {
     // No hypothesis keeps the reference in view (a fast turn away from it): the check measured
     // nothing, and the method's pose, from its own keyframes, is the better guess than an
     // extrapolation. Unverified, it is not OK.
-    best.T_ref_cur = hypotheses[0];
-    hypothesis = "method";
+    c.best.T_ref_cur = hypotheses[0];
+    c.hypothesis = names[0];
   }
-  out->T_world_cam = v.T_out_ref * best.T_ref_cur;
-  out->verification = summary(best, hypothesis, verdict.passed);
-  // Along a direction the geometry leaves free the pose is the hypothesis': trusted only when
-  // that is the method's own, and the method measured that kind of motion.
-  const HypothesisOrigin origin{hypothesis == names[0],
-                                s.rotation_source == RotationSource::kPlanes, translation_measured};
-  // A direction left free holds the KCC's value there: no measurement where its response was a
-  // ridge (a bare wall slides along it in the projection).
-  const bool kcc_ridge_free = origin.from_method && freeAlongKccRidge(best, ridges);
-  const bool free_direction_trusted =
-      !kcc_ridge_free && directionsTrusted(best, predicted, origin, config_);
-  // A prediction right on the recent verified frames, and the pose within its bounds.
-  const auto prediction_vouches = [&] {
-    return v.prediction.reliable(config_) &&
-           withinPredictionTrust(best.T_ref_cur, predicted, config_);
-  };
-  bool tie_settled = false;
-  if (!verdict.passed) {
-    out->state = TrackingState::kDegraded;
-    out->reason = verdict.reason;
-  } else if ((choice.overruled || ambiguous) && config_.prediction_settles_ties &&
-             prediction_vouches()) {
-    out->verification.predicted_directions = true;
-    tie_settled = true;
-  } else if (choice.overruled) {
-    out->state = TrackingState::kDegraded;
-    out->reason =
-        "a better fit far from the prediction rests on grey values alone (a periodic pattern?); "
-        "the pose near the prediction kept";
-  } else if (ambiguous) {
-    out->state = TrackingState::kDegraded;
-    out->reason = "two poses fit equally (a periodic pattern?); the one nearer the prediction kept";
-  } else if (!free_direction_trusted) {
-    // The free direction holds the hypothesis' value: as good as the prediction when it agrees
-    // with a prediction that has been right lately.
-    out->verification.predicted_directions = prediction_vouches();
-    if (!out->verification.predicted_directions) {
-      out->state = TrackingState::kDegraded;
-      out->reason = method_problem ? method_problem
-                    : kcc_ridge_free
-                        ? "geometry leaves a direction unverified that the KCC did not measure "
-                          "(its response is a ridge along it)"
-                        : "geometry leaves a direction unverified";
-    }
-  }
-  if (out->state == TrackingState::kDegraded && ++v.degraded_frames > config_.max_degraded_frames)
-    out->state = TrackingState::kLost;
-  if (out->state == TrackingState::kOk) v.degraded_frames = 0;
-  if (out->state == TrackingState::kLost) v.recovering = true;
-  // A settled tie is refined as it would be unsettled, so that the status rule changes no pose.
-  if ((out->state != TrackingState::kOk || tie_settled) &&
-      best.overlapFraction() >= config_.verify_min_overlap) {
-    // A pose already reported unverified may still be bettered along what it leaves free: the
-    // status stays, the pose and so the next prediction improve, and the figures are the pose's.
-    const AlignmentResult refined =
-        v.aligner.refineAlongWeakDirections(v.reference, v.target, v.map_camera, best, v.params);
-    if (refined.T_ref_cur.matrix() != best.T_ref_cur.matrix()) {
-      out->T_world_cam = v.T_out_ref * refined.T_ref_cur;
-      const bool predicted_directions = out->verification.predicted_directions;
-      out->verification = summary(refined, hypothesis, judgeAlignment(refined, config_).passed);
-      out->verification.predicted_directions = predicted_directions;
-    }
-  }
+  c.origin = {c.hypothesis == names[0], rotation_measured, translation_measured};
+  return c;
+}
+
+void Odometry::refineUnverified(const CheckedPose& c, PoseEstimate* out) {
+  VerificationState& v = *verify_;
+  if (c.best.overlapFraction() < config_.verify_min_overlap) return;
+  // A pose already reported unverified may still be bettered along what it leaves free: the
+  // status stays, the pose and so the next prediction improve, and the figures are the pose's.
+  const AlignmentResult refined =
+      v.aligner.refineAlongWeakDirections(v.reference, v.target, v.map_camera, c.best, v.params);
+  if (refined.T_ref_cur.matrix() == c.best.T_ref_cur.matrix()) return;
+  out->T_world_cam = v.T_out_ref * refined.T_ref_cur;
+  const bool predicted_directions = out->verification.predicted_directions;
+  out->verification = summary(refined, c.hypothesis, judgeAlignment(refined, config_).passed);
+  out->verification.predicted_directions = predicted_directions;
+}
+
+void Odometry::updateMotion(const FrameState& s, const CheckedPose& c, const Isometry3d& T_method,
+                            const PoseEstimate* out) {
+  VerificationState& v = *verify_;
   // Only a pose the data fixed measures the motion; one that took the prediction's value would
   // confirm the prediction by itself.
   const bool verified = out->state == TrackingState::kOk && !out->verification.predicted_directions;
   if (verified)
-    v.prediction.verified(predicted, best.T_ref_cur);
+    v.prediction.verified(c.T_ref_predicted, c.best.T_ref_cur);
   else
     v.prediction.unverified();
   // Yet a pose refined from the prediction that passed measured the directions depth fixed, and
@@ -177,19 +173,23 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   // would decay to standing still over a stretch the data say is a turn. Whatever its status,
   // so that the status rules never change a pose.
   const bool measured_from_prediction =
-      hypothesis == names[1] && out->verification.passed &&
+      std::string_view(c.hypothesis) == "prediction" && out->verification.passed &&
       out->verification.depth_constrained_directions >= config_.unverified_motion_min_directions;
   v.motion.update(out->T_world_cam, verified || measured_from_prediction, s.timestamp);
   // A frame not verified renews the reference, so that the next frames are checked against what
   // is in view: a stale reference would leave every later frame unverifiable.
-  if (!verified || best.overlapFraction() < config_.reference_min_overlap ||
+  if (!verified || c.best.overlapFraction() < config_.reference_min_overlap ||
       ++v.frames_since_reference >= config_.reference_max_frames) {
     renewReference(s, out->T_world_cam, T_method);
   }
+}
+
+void Odometry::applyLateStatusRules(const CheckedPose& c, PoseEstimate* out) {
+  VerificationState& v = *verify_;
   // Last, so that it changes no pose: the pose stands as the best fit of both sensors, which
   // measured motions too far apart for it to be called right.
   if (out->state == TrackingState::kOk && config_.verify_max_grey_depth_gap_rad > 0 &&
-      best.grey_depth_gap_rad > config_.verify_max_grey_depth_gap_rad) {
+      c.best.grey_depth_gap_rad > config_.verify_max_grey_depth_gap_rad) {
     out->state = TrackingState::kDegraded;
     out->reason =
         "depth and grey values disagree on the rotation (colour and depth out of step, "
@@ -200,7 +200,7 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   // again, only depth fixing every direction says the pose is right.
   if (v.recovering && v.prediction.reliable(config_)) v.recovering = false;
   if (out->state == TrackingState::kOk && v.recovering &&
-      best.depth_constrained < config_.recovery_min_depth_directions) {
+      c.best.depth_constrained < config_.recovery_min_depth_directions) {
     out->state = TrackingState::kDegraded;
     out->reason =
         "recovering from LOST: depth leaves a direction free and the motion prediction has not "

@@ -34,4 +34,14 @@ struct Odometry::VerificationState {
   AlignmentTarget target;  // the current frame, shared by the hypotheses
 };
 
+// The hypothesis the check chose for a frame, in the reference's frame, and how it fared.
+struct Odometry::CheckedPose {
+  AlignmentResult best;
+  CheckVerdict verdict;
+  HypothesisChoice choice;
+  HypothesisOrigin origin;
+  const char* hypothesis = "method";  // which: "method", "prediction" or "last pose"
+  Eigen::Isometry3d T_ref_predicted = Eigen::Isometry3d::Identity();
+};
+
 }  // namespace nidevo

@@ -137,6 +137,20 @@ class Odometry {
   void verifyPose(const FrameState& state, const Eigen::Isometry3d& T_method,
                   const char* method_problem, bool translation_measured, const KccRidges& ridges,
                   PoseEstimate* out);
+  // verifyPose's steps (pose_verification.cpp).
+  struct CheckedPose;
+  void reportLostWithoutDepth(const FrameState& state, const Eigen::Isometry3d& T_method,
+                              const char* method_problem, PoseEstimate* out);
+  // Aligns the method's pose, then if needed the prediction and the last pose, and chooses.
+  CheckedPose checkHypotheses(const FrameState& state, const Eigen::Isometry3d& T_method,
+                              const char* method_problem, bool translation_measured);
+  // Betters a pose not called OK along what it leaves free; its status stays.
+  void refineUnverified(const CheckedPose& checked, PoseEstimate* out);
+  // The prediction's record, the motion model and the reference, from the frame's outcome.
+  void updateMotion(const FrameState& state, const CheckedPose& checked,
+                    const Eigen::Isometry3d& T_method, const PoseEstimate* out);
+  // Status rules applied after the motion model took the pose, so that they move no pose.
+  void applyLateStatusRules(const CheckedPose& checked, PoseEstimate* out);
   void renewReference(const FrameState& state, const Eigen::Isometry3d& T_out,
                       const Eigen::Isometry3d& T_method);
   CloudView projectionCloud(const FrameState& state) const;

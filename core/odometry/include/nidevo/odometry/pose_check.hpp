@@ -92,4 +92,26 @@ HypothesisChoice chooseHypothesis(const AlignmentResult* results, const CheckVer
                                   const Eigen::Isometry3d& T_ref_predicted,
                                   const OdometryConfig& c);
 
+// What the check found for a frame, as the status rules read it.
+struct StatusEvidence {
+  const AlignmentResult* best = nullptr;  // the chosen hypothesis' alignment
+  CheckVerdict verdict;
+  HypothesisChoice choice;
+  HypothesisOrigin origin;
+  Eigen::Isometry3d T_ref_predicted = Eigen::Isometry3d::Identity();
+  KccRidges ridges;
+  bool prediction_reliable = false;      // PredictionRecord::reliable
+  const char* method_problem = nullptr;  // why the method's own estimate is weak, or nullptr
+};
+// The status a checked pose earns. Not OK: why (static text). OK with predicted_directions: a
+// direction holds the prediction's value (it vouches for it: reliable, and the pose within its
+// bounds). tie_settled: a periodic pattern's tie the prediction settled. No rule moves the pose.
+struct StatusDecision {
+  bool ok = true;
+  const char* reason = "";
+  bool predicted_directions = false;
+  bool tie_settled = false;
+};
+StatusDecision decideStatus(const StatusEvidence& e, const OdometryConfig& c);
+
 }  // namespace nidevo
