@@ -10,7 +10,6 @@
 #include "nidevo/sim/stress_suite.hpp"
 
 ABSL_FLAG(double, rate, 30.0, "Frame rate in Hz");
-ABSL_FLAG(double, speed, 0.25, "Mean camera speed along the path in m/s");
 ABSL_FLAG(std::string, out, "", "Output folder (required)");
 ABSL_FLAG(int64_t, stress, -1,
           "Render sequence N of the randomized stress suite instead (scene, motion, sensor, lens "
@@ -30,10 +29,7 @@ int main(int argc, char** argv) {
     nidevo::synth::SequenceConfig config =
         stress >= 0 ? nidevo::synth::stressSequenceConfig(uint64_t(stress))
                     : nidevo::cli::syntheticSequenceConfig(nidevo::cli::sceneSourceFromFlags());
-    if (stress < 0) {
-      config.rate_hz = absl::GetFlag(FLAGS_rate);
-      config.speed = absl::GetFlag(FLAGS_speed);
-    }
+    if (stress < 0) config.rate_hz = absl::GetFlag(FLAGS_rate);
     const auto start = std::chrono::steady_clock::now();
     nidevo::synth::SyntheticSequence sequence(config);
     sequence.writeTumFolder(out);

@@ -87,6 +87,7 @@ synth::SequenceConfig syntheticSequenceConfig(const SequenceSource& src) {
   config.frames = int(src.max_frames ? std::min<size_t>(src.max_frames, size_t(src.frames))
                                      : size_t(src.frames));
   config.seed = src.seed;
+  config.speed = src.speed;
   config.camera = presetNamed(scenePresetName(src));
   return config;
 }

@@ -1,6 +1,7 @@
 #include "nidevo/sim/scene.hpp"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <stdexcept>
 
 namespace nidevo::synth {
@@ -141,9 +142,29 @@ Scene gap() {
   return s;
 }
 
+// A large hall: walls and ceiling beyond the sensor's range, so the floor is the only large
+// plane, and the camera circles a group of furniture-sized objects looking at it (the case of a
+// real recording where this odometry was lost on most frames).
+Scene hall() {
+  Scene s;
+  s.name = "hall";
+  addRoom(&s, {-12.0, 0.0, -12.0}, {12.0, 10.0, 12.0});
+  addBox(&s, {0.0, 0.375, 0.0}, {1.2, 0.75, 0.8}, 0.2);    // table
+  addBox(&s, {0.1, 0.87, 0.05}, {0.35, 0.24, 0.3}, -0.5);  // a box on it
+  addBox(&s, {-0.9, 0.6, 0.5}, {0.45, 1.2, 0.45}, 0.6);    // a cabinet
+  addBox(&s, {0.7, 0.2, -0.8}, {0.5, 0.4, 0.35}, -0.3);    // a crate on the floor
+  const Vector3d target(0.0, 0.55, 0.0);
+  for (int k = 0; k <= 8; ++k) {
+    const double a = 2 * M_PI * k / 8, r = 1.9 + 0.3 * std::sin(3 * a);
+    s.path.push_back({{r * std::cos(a), 1.35 + 0.15 * std::cos(2 * a), r * std::sin(a)},
+                      target + Vector3d(0.2 * std::sin(a), 0.0, 0.2 * std::cos(a))});
+  }
+  return s;
+}
+
 }  // namespace
 
-std::vector<std::string> sceneNames() { return {"office", "corridor", "corner", "gap"}; }
+std::vector<std::string> sceneNames() { return {"office", "corridor", "corner", "gap", "hall"}; }
 
 Scene makeScene(const std::string& name) {
   Scene s;
@@ -155,12 +176,14 @@ Scene makeScene(const std::string& name) {
     s = corner();
   else if (name == "gap")
     s = gap();
+  else if (name == "hall")
+    s = hall();
   else if (name.rfind("random:", 0) == 0 && name.size() > 7 &&
            name.find_first_not_of("0123456789", 7) == std::string::npos)
     s = makeRandomScene(std::stoull(name.substr(7)));
   else
     throw std::invalid_argument("unknown scene '" + name +
-                                "' (office, corridor, corner, gap, random:SEED)");
+                                "' (office, corridor, corner, gap, hall, random:SEED)");
   s.light_dir.normalize();
   return s;
 }

@@ -30,6 +30,7 @@ struct SequenceSource {
   std::string noise = "none";
   int frames = 300;
   uint64_t seed = 1;
+  double speed = 0.25;  // synthetic: mean camera speed along the path, m/s
   // Preset for a synthetic scene ("auto": icl), or for a folder without camera.txt ("auto":
   // the preset the folder's name implies, else an error).
   std::string camera = kAutoCamera;
