@@ -3,7 +3,8 @@
 # scripts/stress_suite.sh) and on the real clip, one per-frame CSV each, then prints per sequence
 # the ATE, the OK share and the silent failures, and the per-status error table over the suite
 # and over the real clip (as recorded, and every 2nd and 3rd frame: two and three times as
-# fast). Extra arguments go to nidevo-run (e.g. --align_photometric_weight 0).
+# fast), and the pose check's reported spread against the error (scripts/sigma_table.py). Extra
+# arguments go to nidevo-run (e.g. --align_photometric_weight 0).
 # Usage: scripts/status_suite.sh [nidevo-run flags...]   (NIDEVO_STATUS_OUT: CSV folder,
 # default build/status; NIDEVO_STATUS_SUITE: the sequences' folder, default build/stress;
 # NIDEVO_STATUS_BIN: the folder of the nidevo-run to measure, default build/bin, e.g. an older
@@ -40,9 +41,11 @@ if [ -d "$real" ]; then
 fi
 if [ ${#suite[@]} -gt 0 ]; then
   echo; echo "stress suite (${#suite[@]} sequences):"; python3 scripts/status_table.py "${suite[@]}"
+  echo; echo "stress suite, spread against error:"; python3 scripts/sigma_table.py "${suite[@]}"
 fi
 if [ -d "$real" ]; then
   echo; echo "real clip:"; python3 scripts/status_table.py "$out/tum_fr1_rpy.csv"
+  echo; echo "real clip, spread against error:"; python3 scripts/sigma_table.py "$out/tum_fr1_rpy.csv"
   echo; echo "real clip, two and three times as fast:"
   python3 scripts/status_table.py "$out/tum_fr1_rpy_x2.csv" "$out/tum_fr1_rpy_x3.csv"
 fi

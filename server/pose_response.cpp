@@ -93,6 +93,8 @@ void fillPoseResponse(const v1::Frame& frame, const PoseEstimate& pose,
     check->set_confirmed_directions(v.confirmed_directions);
     check->set_predicted_directions(v.predicted_directions);
     check->set_grey_depth_gap_deg(v.grey_depth_gap_deg);
+    check->set_sigma_rotation_deg(v.sigma_rotation_deg);
+    check->set_sigma_translation_m(v.sigma_translation_m);
   } else {
     out->clear_check();
   }

@@ -130,6 +130,7 @@ void DepthAligner::WeightedRows::sum(NormalEquations* out) const {
   M.noalias() = A.transpose() * A;
   out->H = M.topLeftCorner<6, 6>().cast<double>();
   out->b = M.block<6, 1>(0, 6).cast<double>();
+  out->rr = double(M(6, 6));
 }
 
 void DepthAligner::reserve(size_t points) {
@@ -329,6 +330,21 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
       ++res.constrained;
       const auto vk = eig.eigenvectors().col(k);
       xi += (vk.dot(b) / lambda) * vk;
+    }
+    {
+      // sigma^2 H^-1 over the fixed directions, H the sums of the rows (not per point).
+      const double rows = double(system_points + (photometric ? grey_rows_.size() : 0));
+      const double rr = depth_.rr + (photometric ? grey_.rr : 0.0);
+      const double s2 = rows > 6 ? rr / (rows - 6) : 0.0;
+      Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
+      for (int k = 0; k < 6; ++k) {
+        const double lambda = eig.eigenvalues()(k);
+        if (lambda < prm.min_eigenvalue) continue;
+        const auto vk = eig.eigenvectors().col(k);
+        cov += (s2 / (lambda * system_points)) * vk * vk.transpose();
+      }
+      res.sigma_rotation_rad = std::sqrt(cov.topLeftCorner<3, 3>().trace()) / depth_scale;
+      res.sigma_translation_m = std::sqrt(cov.bottomRightCorner<3, 3>().trace());
     }
     // What depth alone fixes at this pose, whatever the grey values add.
     res.depth_constrained =

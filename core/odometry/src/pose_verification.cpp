@@ -29,6 +29,8 @@ PoseVerification summary(const AlignmentResult& a, const char* hypothesis, bool 
   v.passed = passed;
   v.grey_depth_gap_deg = a.grey_depth_gap_rad * 180.0 / M_PI;
   v.grey_depth_gap_m = a.grey_depth_gap_m;
+  v.sigma_rotation_deg = a.sigma_rotation_rad * 180.0 / M_PI;
+  v.sigma_translation_m = a.sigma_translation_m;
   return v;
 }
 

@@ -22,6 +22,8 @@ TEST(PoseResponse, CarriesEveryFigureOfThePoseCheck) {
   v.confirmed_directions = 1;
   v.predicted_directions = true;
   v.grey_depth_gap_deg = 1.25;
+  v.sigma_rotation_deg = 0.031;
+  v.sigma_translation_m = 0.0012;
   v1::Frame frame;
   frame.set_sequence(7);
   v1::TrackResponse out;
@@ -40,6 +42,8 @@ TEST(PoseResponse, CarriesEveryFigureOfThePoseCheck) {
   EXPECT_EQ(c.confirmed_directions(), 1);
   EXPECT_TRUE(c.predicted_directions());
   EXPECT_EQ(c.grey_depth_gap_deg(), 1.25);
+  EXPECT_EQ(c.sigma_rotation_deg(), 0.031);
+  EXPECT_EQ(c.sigma_translation_m(), 0.0012);
 
   // A pose without a check (the first frame) clears an earlier answer's.
   pose.verification = PoseVerification{};

@@ -103,6 +103,11 @@ struct AlignmentResult {
   // values' reach, about 1 deg at 320x240 (test: within 0.1 deg up to 1 deg); beyond it, low.
   double grey_depth_gap_rad = 0;
   double grey_depth_gap_m = 0;
+  // The estimate's spread along the directions the last step fixed, from its normal equations
+  // and weighted residuals (sigma^2 H^-1; the root of the trace of its rotation and translation
+  // blocks): rad and m. 0 before a step.
+  double sigma_rotation_rad = 0;
+  double sigma_translation_m = 0;
   // Whether a direction left free is mostly a rotation, mostly a translation.
   bool free_rotation = false;
   bool free_translation = false;
@@ -160,6 +165,7 @@ class DepthAligner {
   struct NormalEquations {
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+    double rr = 0;  // the weighted residuals' squares summed
   };
   // Rows of one kind of residual, each [J, r] times the square root of its weight, summed into
   // normal equations by one matrix product: per row, an outer product into the 36 sums costs

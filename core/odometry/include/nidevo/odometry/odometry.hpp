@@ -49,8 +49,10 @@ struct PoseVerification {
   bool free_rotation = false;     // a direction left free is (mostly) a rotation
   bool free_translation = false;  // ... a translation
   bool passed = false;
-  double grey_depth_gap_deg = 0;  // AlignmentResult::grey_depth_gap_rad, in degrees
-  double grey_depth_gap_m = 0;    // AlignmentResult::grey_depth_gap_m
+  double grey_depth_gap_deg = 0;   // AlignmentResult::grey_depth_gap_rad, in degrees
+  double grey_depth_gap_m = 0;     // AlignmentResult::grey_depth_gap_m
+  double sigma_rotation_deg = 0;   // AlignmentResult::sigma_rotation_rad, in degrees
+  double sigma_translation_m = 0;  // AlignmentResult::sigma_translation_m
   // OK although a direction was left free: its value is the motion prediction's, which matched
   // the recent verified frames (OdometryConfig::prediction_trust_frames).
   bool predicted_directions = false;
