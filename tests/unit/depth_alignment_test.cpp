@@ -272,6 +272,34 @@ TEST_F(DepthAlignmentTest, WeakDirectionsConfirmTheTruePoseAndNotAPlantedOffset)
   EXPECT_EQ(aligner_.align(sample_, cur.map, cur.intensity, map_camera, truth, p).confirmed, 0);
 }
 
+// Every direction weak again: at the true pose the grey values fit worse 5 cm away along each,
+// either way; at a pose planted 8 cm off along x (beyond their reach, where a would-be step can
+// come out small) they fit one side at least as well, so that direction is untold.
+TEST_F(DepthAlignmentTest, GreyValuesTellTheTruePoseFromOneMovedAlongEachWeakDirection) {
+  const Isometry3d truth = motion(0.02, {0.2, 1, 0}, {0.03, -0.01, 0.02});
+  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
+  AlignmentTarget target;
+  buildAlignmentTarget(cur.map, cur.intensity, &target);
+  AlignmentParams p = alignmentParams(config_);
+  p.min_eigenvalue = 1e3f;
+  p.confirm_eigenvalue = 1e-6f;
+  ASSERT_EQ(p.confirm_shift_m, 0.05f);
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  const AlignmentResult right = aligner_.align(sample_, target, map_camera, truth, p);
+  ASSERT_EQ(right.weak_count, 6);
+  const DepthAligner::Untold at_truth =
+      aligner_.untoldWeakDirections(sample_, target, map_camera, right, p);
+  EXPECT_EQ(at_truth.directions, 0);
+  EXPECT_EQ(at_truth.confirmed, 0);
+  const Isometry3d planted = truth * motion(0, {0, 1, 0}, {0.08, 0, 0});
+  const AlignmentResult wrong = aligner_.align(sample_, target, map_camera, planted, p);
+  const DepthAligner::Untold off =
+      aligner_.untoldWeakDirections(sample_, target, map_camera, wrong, p);
+  EXPECT_GE(off.directions, 1);
+  EXPECT_LE(off.confirmed, off.directions);
+  EXPECT_TRUE(wrong.T_ref_cur.isApprox(planted)) << "the test moves no pose";
+}
+
 // The same planted offsets, every direction weak: the further pass steps along them and finds the
 // true pose, yet leaves them unconfirmed, since it moved the pose; asked not to, it moves nothing.
 TEST_F(DepthAlignmentTest, RefiningAlongWeakDirectionsUndoesAPlantedOffsetButConfirmsNothing) {

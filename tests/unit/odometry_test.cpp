@@ -314,6 +314,9 @@ TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
   bad.recovery_min_depth_directions = 7;
   EXPECT_NE(bad.validate().find("recovery_min_depth_directions"), std::string::npos);
   bad = OdometryConfig{};
+  bad.align_confirm_shift_m = -0.01f;
+  EXPECT_NE(bad.validate().find("align_confirm_shift_m"), std::string::npos);
+  bad = OdometryConfig{};
   bad.plane_pixel_step = 0;
   EXPECT_NE(bad.validate().find("plane_pixel_step"), std::string::npos);
   bad = OdometryConfig{};

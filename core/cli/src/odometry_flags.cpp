@@ -87,6 +87,9 @@ ABSL_FLAG(double, align_step_inlier_slack, shortestDecimal(kDefaults.align_step_
 ABSL_FLAG(double, align_confirm_eigenvalue, shortestDecimal(kDefaults.align_confirm_eigenvalue),
           "A weaker direction of at least this eigenvalue confirms the hypothesis when its step "
           "stays within --align_confirm_step (0: never)");
+ABSL_FLAG(double, align_confirm_shift, shortestDecimal(kDefaults.align_confirm_shift_m),
+          "An OK frame resting on a confirmed direction along which the grey values agree no "
+          "worse with the pose moved this far either way is DEGRADED (m; 0: never)");
 ABSL_FLAG(double, align_confirm_step, shortestDecimal(kDefaults.align_confirm_step_m),
           "Largest would-be step along a weak direction that confirms the hypothesis (m)");
 ABSL_FLAG(int, align_polish_iterations, kDefaults.align_polish_iterations,
@@ -160,6 +163,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.align_polish_iterations = absl::GetFlag(FLAGS_align_polish_iterations);
   c.align_confirm_eigenvalue = float(absl::GetFlag(FLAGS_align_confirm_eigenvalue));
   c.align_confirm_step_m = float(absl::GetFlag(FLAGS_align_confirm_step));
+  c.align_confirm_shift_m = float(absl::GetFlag(FLAGS_align_confirm_shift));
   c.verify_sample_step = absl::GetFlag(FLAGS_verify_sample_step);
   c.verify_min_inliers = float(absl::GetFlag(FLAGS_verify_min_inliers));
   c.verify_max_rms_m = float(absl::GetFlag(FLAGS_verify_max_rms));

@@ -319,9 +319,10 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
           *weak_moved += moved * vk;
           moved = vk.dot(*weak_moved);
         }
-        if (prm.confirm_eigenvalue > 0 && lambda >= prm.confirm_eigenvalue &&
-            std::abs(moved) <= prm.confirm_step_m)
-          ++res.confirmed;
+        const bool confirmed = prm.confirm_eigenvalue > 0 && lambda >= prm.confirm_eigenvalue &&
+                               std::abs(moved) <= prm.confirm_step_m;
+        res.confirmed += confirmed;
+        res.weak_confirmed[res.weak_count] = confirmed;
         res.weak_axes.col(res.weak_count++) = vk;
         const bool rotational = vk.head<3>().squaredNorm() > 0.5;
         (rotational ? res.free_rotation : res.free_translation) = true;
@@ -429,6 +430,31 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTar
   evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, Rows::kNone, &res);
   res.T_ref_cur = T_cur_ref.inverse();
   return res;
+}
+
+DepthAligner::Untold DepthAligner::untoldWeakDirections(const SurfaceSample& ref,
+                                                        const AlignmentTarget& cur,
+                                                        const Camera& map_camera,
+                                                        const AlignmentResult& result,
+                                                        const AlignmentParams& prm) {
+  const Isometry3d T_cur_ref = result.T_ref_cur.inverse();
+  const double depth_scale = meanDepth(ref);
+  Untold untold;
+  for (int k = 0; k < result.weak_count; ++k) {
+    bool worse_both_ways = true;
+    for (const double sign : {-1.0, 1.0}) {
+      Vector6d xi = sign * prm.confirm_shift_m * result.weak_axes.col(k);
+      xi.head<3>() /= depth_scale;
+      AlignmentResult moved;
+      evaluate(ref, cur, map_camera, increment(xi) * T_cur_ref, prm, depth_scale, Rows::kNone,
+               &moved);
+      worse_both_ways = worse_both_ways && moved.ncc < result.ncc;
+    }
+    if (worse_both_ways) continue;
+    ++untold.directions;
+    untold.confirmed += result.weak_confirmed[k];
+  }
+  return untold;
 }
 
 AlignmentResult DepthAligner::refineAlongWeakDirections(const SurfaceSample& ref,

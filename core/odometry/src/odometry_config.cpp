@@ -81,6 +81,7 @@ std::string OdometryConfig::validate() const {
   if (!in(align_photometric_weight, 0, 10)) return "align_photometric_weight must be in [0, 10]";
   if (!in(align_confirm_eigenvalue, 0, 100)) return "align_confirm_eigenvalue must be in [0, 100]";
   if (!in(align_confirm_step_m, 0, 1)) return "align_confirm_step_m must be in [0, 1]";
+  if (!in(align_confirm_shift_m, 0, 1)) return "align_confirm_shift_m must be in [0, 1]";
   if (align_polish_iterations < 0 || align_polish_iterations > 50)
     return "align_polish_iterations must be in 0..50";
   if (!in(verify_min_inliers, 0, 1)) return "verify_min_inliers must be in [0, 1]";
@@ -138,6 +139,7 @@ AlignmentParams alignmentParams(const OdometryConfig& c) {
   p.photometric_weight = c.align_photometric_weight;
   p.confirm_eigenvalue = c.align_confirm_eigenvalue;
   p.confirm_step_m = c.align_confirm_step_m;
+  p.confirm_shift_m = c.align_confirm_shift_m;
   p.polish_iterations = std::min(c.align_polish_iterations, c.align_iterations);
   p.grey_depth_gap_rad = c.verify_max_grey_depth_gap_rad;
   return p;

@@ -80,6 +80,8 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     out->state = TrackingState::kDegraded;
     out->reason = status.reason;
   }
+  const bool untold =
+      status.ok && !status.predicted_directions && weakDirectionUntold(checked, evidence);
   if (out->state == TrackingState::kDegraded && ++v.degraded_frames > config_.max_degraded_frames)
     out->state = TrackingState::kLost;
   if (out->state == TrackingState::kOk) v.degraded_frames = 0;
@@ -87,7 +89,23 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   // A settled tie is refined as it would be unsettled, so that the status rule changes no pose.
   if (out->state != TrackingState::kOk || status.tie_settled) refineUnverified(checked, out);
   updateMotion(s, checked, T_method, out);
-  applyLateStatusRules(checked, out);
+  applyLateStatusRules(checked, untold, out);
+}
+
+bool Odometry::weakDirectionUntold(const CheckedPose& c, const StatusEvidence& evidence) {
+  VerificationState& v = *verify_;
+  if (c.best.weak_count == 0 || c.best.depth_constrained == 6 || config_.align_confirm_shift_m <= 0)
+    return false;
+  const DepthAligner::Untold untold =
+      v.aligner.untoldWeakDirections(v.reference, v.target, v.map_camera, c.best, v.params);
+  if (untold.directions == 0) return false;
+  // The status again, without the confirmations and the method's values the data cannot tell.
+  AlignmentResult told = c.best;
+  told.confirmed -= untold.confirmed;
+  StatusEvidence without = evidence;
+  without.best = &told;
+  if (untold.directions > untold.confirmed) without.origin.from_method = false;
+  return !decideStatus(without, config_).ok;
 }
 
 void Odometry::reportLostWithoutDepth(const FrameState& s, const Isometry3d& T_method,
@@ -186,7 +204,8 @@ void Odometry::updateMotion(const FrameState& s, const CheckedPose& c, const Iso
   }
 }
 
-void Odometry::applyLateStatusRules(const CheckedPose& c, PoseEstimate* out) {
+void Odometry::applyLateStatusRules(const CheckedPose& c, bool weak_direction_untold,
+                                    PoseEstimate* out) {
   VerificationState& v = *verify_;
   // Last, so that it changes no pose: the pose stands as the best fit of both sensors, which
   // measured motions too far apart for it to be called right.
@@ -196,6 +215,15 @@ void Odometry::applyLateStatusRules(const CheckedPose& c, PoseEstimate* out) {
     out->reason =
         "depth and grey values disagree on the rotation (colour and depth out of step, "
         "motion blur?)";
+  }
+  // Likewise: OK rested on a direction the check did not fix (confirmed by a small would-be step,
+  // or the method's value), yet the grey values fit the pose moved a silent failure's distance
+  // along it as well.
+  if (out->state == TrackingState::kOk && weak_direction_untold) {
+    out->state = TrackingState::kDegraded;
+    out->reason =
+        "a direction the check did not fix: the grey values fit the pose moved along it "
+        "(align_confirm_shift_m) as well";
   }
   // Likewise last: back from LOST, the check's minimum was found from hypotheses the lost stretch
   // left far off, where a wrong minimum can fit both sensors; until the prediction has been right

@@ -65,6 +65,9 @@ struct AlignmentParams {
   // hypothesis: the data could have moved it and did not. 0: never confirmed.
   float confirm_eigenvalue = 0.0f;
   float confirm_step_m = 0.005f;
+  // DepthAligner::untoldWeakDirections moves the pose this far (metres at the mean depth) either
+  // way along a confirmed direction.
+  float confirm_shift_m = 0.05f;
   float min_eigenvalue = 0.004f;  // normalised Hessian eigenvalue below which a direction is left
                                   // to the hypothesis
   // refineAlongWeakDirections steps along weak directions of at least this eigenvalue too; they
@@ -91,6 +94,7 @@ struct AlignmentResult {
   int constrained = 0;           // directions (of 6) the geometry fixed in the last step
   int depth_constrained = 0;     // ... that depth alone fixed (the rest needed grey values)
   int confirmed = 0;             // weak directions the data left at the hypothesis' value
+  bool weak_confirmed[6] = {};   // which of weak_axes' columns those are
   // The weak directions of the last step, as columns: unit twists [rotation * mean depth,
   // translation], so that a step of s along one moves the surface about s metres.
   Eigen::Matrix<double, 6, 6> weak_axes = Eigen::Matrix<double, 6, 6>::Zero();
@@ -138,6 +142,18 @@ class DepthAligner {
   AlignmentResult refineAlongWeakDirections(const SurfaceSample& ref, const AlignmentTarget& cur,
                                             const Camera& map_camera, const AlignmentResult& from,
                                             const AlignmentParams& params);
+  // Of the weak directions of `result` (of align), those along which the grey values agree no
+  // worse (NCC) with its pose moved params.confirm_shift_m either way, and how many of them were
+  // confirmed: a would-be step from a linearisation cannot see a pose beyond the grey values'
+  // reach, where their gradient has faded, and a value the check did not fix (the method's, a
+  // confirmed one) is worth something only where the data tell the pose apart.
+  struct Untold {
+    int directions = 0;
+    int confirmed = 0;
+  };
+  Untold untoldWeakDirections(const SurfaceSample& ref, const AlignmentTarget& cur,
+                              const Camera& map_camera, const AlignmentResult& result,
+                              const AlignmentParams& params);
   // Room for samples of up to `points` points, so that steady state never allocates.
   void reserve(size_t points);
 

@@ -99,7 +99,8 @@ struct FrameState {
   StageTimes times;
 };
 
-struct KccRidges;  // pose_check.hpp
+struct KccRidges;       // pose_check.hpp
+struct StatusEvidence;  // pose_check.hpp
 
 class Odometry {
  public:
@@ -151,8 +152,13 @@ class Odometry {
   // The prediction's record, the motion model and the reference, from the frame's outcome.
   void updateMotion(const FrameState& state, const CheckedPose& checked,
                     const Eigen::Isometry3d& T_method, const PoseEstimate* out);
+  // Whether the status was OK only thanks to a weak direction's value (confirmed, or the
+  // method's) that the grey values cannot tell from the pose moved along it
+  // (DepthAligner::untoldWeakDirections).
+  bool weakDirectionUntold(const CheckedPose& checked, const StatusEvidence& evidence);
   // Status rules applied after the motion model took the pose, so that they move no pose.
-  void applyLateStatusRules(const CheckedPose& checked, PoseEstimate* out);
+  void applyLateStatusRules(const CheckedPose& checked, bool weak_direction_untold,
+                            PoseEstimate* out);
   void renewReference(const FrameState& state, const Eigen::Isometry3d& T_out,
                       const Eigen::Isometry3d& T_method);
   CloudView projectionCloud(const FrameState& state) const;
