@@ -99,12 +99,13 @@ bool Odometry::weakDirectionUntold(const CheckedPose& c, const StatusEvidence& e
   const DepthAligner::Untold untold =
       v.aligner.untoldWeakDirections(v.reference, v.target, v.map_camera, c.best, v.params);
   if (untold.directions == 0) return false;
-  // The status again, without the confirmations and the method's values the data cannot tell.
+  // The status again, without the confirmations the data cannot tell apart, and without the
+  // method's own value vouching: along an untold direction it is all there is.
   AlignmentResult told = c.best;
   told.confirmed -= untold.confirmed;
   StatusEvidence without = evidence;
   without.best = &told;
-  if (untold.directions > untold.confirmed) without.origin.from_method = false;
+  without.origin.from_method = false;
   return !decideStatus(without, config_).ok;
 }
 
