@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "nidevo/io/camera_io.hpp"
 #include "nidevo/odometry/motion_model.hpp"
@@ -188,6 +189,39 @@ TEST(Odometry, GreyValuesOutOfStepWithDepthAreDegradedWithThePoseUnchanged) {
   EXPECT_EQ(rule_off.T_world_cam.matrix(), flagged.T_world_cam.matrix());
 }
 
+// A second frame with 5 mm of depth noise: its spread is well inside what OK promises at the
+// default two sigmas; a rule of just more sigmas than reach the first bound calls it DEGRADED,
+// just fewer OK; the pose is the same either way.
+TEST(Odometry, APoseWhoseSpreadIsWiderThanOkAllowsIsDegradedWithThePoseUnchanged) {
+  const synth::SyntheticSequence seq(officeConfig(1));
+  RgbdFrame noisy = seq.renderFrame(1);
+  std::mt19937 rng(3);
+  std::normal_distribution<float> gauss(0.f, 0.005f);
+  for (float& z : noisy.depth.data)
+    if (z > 0) z += gauss(rng);
+  auto second = [&](float sigmas) {
+    OdometryConfig config;
+    config.verify_max_spread_sigmas = sigmas;
+    Odometry odometry(seq.config().camera, config);
+    odometry.track(seq.renderFrame(0));
+    return odometry.track(noisy);
+  };
+  const PoseEstimate sure = second(OdometryConfig{}.verify_max_spread_sigmas);
+  ASSERT_EQ(sure.state, TrackingState::kOk) << sure.reason;
+  const OdometryConfig c;
+  EXPECT_GT(sure.verification.sigma_translation_m, 0);
+  EXPECT_LT(2 * sure.verification.sigma_translation_m, c.prediction_trust_m);
+  // The number of sigmas at which the first of the two spreads reaches its bound.
+  const double bound =
+      std::min(c.prediction_trust_m / sure.verification.sigma_translation_m,
+               c.prediction_trust_rad * 180 / M_PI / sure.verification.sigma_rotation_deg);
+  EXPECT_EQ(second(float(0.99 * bound)).state, TrackingState::kOk) << "within both bounds";
+  const PoseEstimate flagged = second(float(1.01 * bound));
+  EXPECT_EQ(flagged.state, TrackingState::kDegraded);
+  EXPECT_STREQ(flagged.reason, "the pose's spread from the sensor noise is wider than OK allows");
+  EXPECT_EQ(flagged.T_world_cam.matrix(), sure.T_world_cam.matrix());
+}
+
 TEST(Odometry, NoValidDepthIsLostButFiniteAndRecovers) {
   const synth::SyntheticSequence seq(officeConfig(6));
   Odometry odometry(seq.config().camera, OdometryConfig{});
@@ -313,6 +347,9 @@ TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
   bad = OdometryConfig{};
   bad.recovery_min_depth_directions = 7;
   EXPECT_NE(bad.validate().find("recovery_min_depth_directions"), std::string::npos);
+  bad = OdometryConfig{};
+  bad.verify_max_spread_sigmas = -1.f;
+  EXPECT_NE(bad.validate().find("verify_max_spread_sigmas"), std::string::npos);
   bad = OdometryConfig{};
   bad.align_confirm_shift_m = -0.01f;
   EXPECT_NE(bad.validate().find("align_confirm_shift_m"), std::string::npos);

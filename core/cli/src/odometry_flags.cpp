@@ -90,6 +90,9 @@ ABSL_FLAG(double, align_confirm_eigenvalue, shortestDecimal(kDefaults.align_conf
 ABSL_FLAG(double, align_confirm_shift, shortestDecimal(kDefaults.align_confirm_shift_m),
           "An OK frame resting on a confirmed direction along which the grey values agree no "
           "worse with the pose moved this far either way is DEGRADED (m; 0: never)");
+ABSL_FLAG(double, verify_max_spread_sigmas, shortestDecimal(kDefaults.verify_max_spread_sigmas),
+          "An OK frame whose spread times this exceeds the accuracy asked of OK frames "
+          "(--prediction_trust_*) is DEGRADED (0: never)");
 ABSL_FLAG(double, align_confirm_step, shortestDecimal(kDefaults.align_confirm_step_m),
           "Largest would-be step along a weak direction that confirms the hypothesis (m)");
 ABSL_FLAG(int, align_polish_iterations, kDefaults.align_polish_iterations,
@@ -164,6 +167,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.align_confirm_eigenvalue = float(absl::GetFlag(FLAGS_align_confirm_eigenvalue));
   c.align_confirm_step_m = float(absl::GetFlag(FLAGS_align_confirm_step));
   c.align_confirm_shift_m = float(absl::GetFlag(FLAGS_align_confirm_shift));
+  c.verify_max_spread_sigmas = float(absl::GetFlag(FLAGS_verify_max_spread_sigmas));
   c.verify_sample_step = absl::GetFlag(FLAGS_verify_sample_step);
   c.verify_min_inliers = float(absl::GetFlag(FLAGS_verify_min_inliers));
   c.verify_max_rms_m = float(absl::GetFlag(FLAGS_verify_max_rms));

@@ -82,6 +82,8 @@ std::string OdometryConfig::validate() const {
   if (!in(align_confirm_eigenvalue, 0, 100)) return "align_confirm_eigenvalue must be in [0, 100]";
   if (!in(align_confirm_step_m, 0, 1)) return "align_confirm_step_m must be in [0, 1]";
   if (!in(align_confirm_shift_m, 0, 1)) return "align_confirm_shift_m must be in [0, 1]";
+  if (!in(verify_max_spread_sigmas, 0, 1000))
+    return "verify_max_spread_sigmas must be in [0, 1000]";
   if (align_polish_iterations < 0 || align_polish_iterations > 50)
     return "align_polish_iterations must be in 0..50";
   if (!in(verify_min_inliers, 0, 1)) return "verify_min_inliers must be in [0, 1]";

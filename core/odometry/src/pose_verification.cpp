@@ -226,6 +226,14 @@ void Odometry::applyLateStatusRules(const CheckedPose& c, bool weak_direction_un
         "a direction the check did not fix: the grey values fit the pose moved along it "
         "(align_confirm_shift_m) as well";
   }
+  // Likewise: the check's own spread, from the sensor noise alone, reaches beyond what OK promises.
+  const double k = config_.verify_max_spread_sigmas;
+  if (out->state == TrackingState::kOk && k > 0 &&
+      (k * out->verification.sigma_rotation_deg * M_PI / 180 > config_.prediction_trust_rad ||
+       k * out->verification.sigma_translation_m > config_.prediction_trust_m)) {
+    out->state = TrackingState::kDegraded;
+    out->reason = "the pose's spread from the sensor noise is wider than OK allows";
+  }
   // Likewise last: back from LOST, the check's minimum was found from hypotheses the lost stretch
   // left far off, where a wrong minimum can fit both sensors; until the prediction has been right
   // again, only depth fixing every direction says the pose is right.

@@ -125,6 +125,11 @@ struct OdometryConfig {
   // every verified frame of the stress suite (max 0.83 deg), half the 2 deg of a silent failure;
   // 0: never (README "Accuracy").
   float verify_max_grey_depth_gap_rad = 0.017453292f;  // 1 deg
+  // An OK frame whose spread (AlignmentResult::sigma_*) times this reaches beyond the accuracy
+  // asked of OK frames (prediction_trust_rad, prediction_trust_m) is DEGRADED, its pose
+  // unchanged: the sensor noise alone leaves it less sure than OK says. 2: about 95 % of a
+  // Gaussian spread; 0: never (README "The pose's spread").
+  float verify_max_spread_sigmas = 2.0f;
   // Motion prior: a verified pose this far (together) from the prediction has the prediction
   // tried too; fits within hypothesis_tie (relative) are a tie, won by the pose nearer it.
   float prior_translation_m = 0.05f;
