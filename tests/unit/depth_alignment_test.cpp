@@ -63,6 +63,23 @@ class DepthAlignmentTest : public ::testing::Test {
     return aligner_.align(sample_, cur.map, cur.intensity,
                           camera_.subsampled(config_.normal_stride), hypothesis, p);
   }
+  // The current frame rendered at `truth` as the alignment reads it, with every direction
+  // declared too weak to update and any weak direction confirmable.
+  struct AllWeak {
+    AlignmentTarget target;
+    AlignmentParams params;
+    Camera map_camera;
+  };
+  AllWeak allWeakAt(const Isometry3d& truth) {
+    AllWeak w;
+    const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
+    buildAlignmentTarget(cur.map, cur.intensity, &w.target);
+    w.params = alignmentParams(config_);
+    w.params.min_eigenvalue = 1e3f;
+    w.params.confirm_eigenvalue = 1e-6f;
+    w.map_camera = camera_.subsampled(config_.normal_stride);
+    return w;
+  }
   OdometryConfig config_;
   std::unique_ptr<synth::SyntheticSequence> seq_;
   Camera camera_;
@@ -277,14 +294,11 @@ TEST_F(DepthAlignmentTest, WeakDirectionsConfirmTheTruePoseAndNotAPlantedOffset)
 // come out small) they fit one side at least as well, so that direction is untold.
 TEST_F(DepthAlignmentTest, GreyValuesTellTheTruePoseFromOneMovedAlongEachWeakDirection) {
   const Isometry3d truth = motion(0.02, {0.2, 1, 0}, {0.03, -0.01, 0.02});
-  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
-  AlignmentTarget target;
-  buildAlignmentTarget(cur.map, cur.intensity, &target);
-  AlignmentParams p = alignmentParams(config_);
-  p.min_eigenvalue = 1e3f;
-  p.confirm_eigenvalue = 1e-6f;
+  const AllWeak w = allWeakAt(truth);
+  const AlignmentTarget& target = w.target;
+  const AlignmentParams& p = w.params;
+  const Camera& map_camera = w.map_camera;
   ASSERT_EQ(p.confirm_shift_m, 0.05f);
-  const Camera map_camera = camera_.subsampled(config_.normal_stride);
   const AlignmentResult right = aligner_.align(sample_, target, map_camera, truth, p);
   ASSERT_EQ(right.weak_count, 6);
   const DepthAligner::Untold at_truth =
@@ -304,13 +318,10 @@ TEST_F(DepthAlignmentTest, GreyValuesTellTheTruePoseFromOneMovedAlongEachWeakDir
 // true pose, yet leaves them unconfirmed, since it moved the pose; asked not to, it moves nothing.
 TEST_F(DepthAlignmentTest, RefiningAlongWeakDirectionsUndoesAPlantedOffsetButConfirmsNothing) {
   const Isometry3d truth = motion(0.02, {0.2, 1, 0}, {0.03, -0.01, 0.02});
-  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
-  AlignmentTarget target;
-  buildAlignmentTarget(cur.map, cur.intensity, &target);
-  AlignmentParams p = alignmentParams(config_);
-  p.min_eigenvalue = 1e3f;
-  p.confirm_eigenvalue = 1e-6f;
-  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  AllWeak w = allWeakAt(truth);
+  const AlignmentTarget& target = w.target;
+  AlignmentParams& p = w.params;
+  const Camera& map_camera = w.map_camera;
   for (const Eigen::Vector3d& offset : {Eigen::Vector3d(0.03, 0, 0), Eigen::Vector3d(0, 0.02, 0)}) {
     const Isometry3d planted = truth * motion(0, {0, 1, 0}, offset);
     const AlignmentResult held = aligner_.align(sample_, target, map_camera, planted, p);
