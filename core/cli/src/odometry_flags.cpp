@@ -88,8 +88,9 @@ ABSL_FLAG(double, align_confirm_eigenvalue, shortestDecimal(kDefaults.align_conf
           "A weaker direction of at least this eigenvalue confirms the hypothesis when its step "
           "stays within --align_confirm_step (0: never)");
 ABSL_FLAG(double, align_confirm_shift, shortestDecimal(kDefaults.align_confirm_shift_m),
-          "An OK frame resting on a confirmed direction along which the grey values agree no "
-          "worse with the pose moved this far either way is DEGRADED (m; 0: never)");
+          "An OK frame resting on a weak direction's value (confirmed, or the method's) along "
+          "which the grey values agree no worse with the pose moved this far either way is "
+          "DEGRADED (m; 0: never)");
 ABSL_FLAG(double, verify_max_spread_sigmas, shortestDecimal(kDefaults.verify_max_spread_sigmas),
           "An OK frame whose spread times this exceeds the accuracy asked of OK frames "
           "(--prediction_trust_*) is DEGRADED (0: never)");

@@ -66,7 +66,7 @@ struct AlignmentParams {
   float confirm_eigenvalue = 0.0f;
   float confirm_step_m = 0.005f;
   // DepthAligner::untoldWeakDirections moves the pose this far (metres at the mean depth) either
-  // way along a confirmed direction.
+  // way along each weak direction.
   float confirm_shift_m = 0.05f;
   float min_eigenvalue = 0.004f;  // normalised Hessian eigenvalue below which a direction is left
                                   // to the hypothesis

@@ -106,10 +106,11 @@ struct OdometryConfig {
   // counts as fixed for OK (0: never; README "Accuracy" measures the pair).
   float align_confirm_eigenvalue = 3e-4f;
   float align_confirm_step_m = 0.005f;
-  // An OK frame whose status rests on a confirmed direction along which the grey values agree no
-  // worse with the pose moved this far either way (metres at the mean depth; the 5 cm of a silent
-  // failure) is DEGRADED, its pose unchanged: a linearised step cannot see a pose beyond the grey
-  // values' reach. 0: never (README "Weak directions the grey values cannot tell apart").
+  // An OK frame whose status rests on a weak direction's value (confirmed, or the method's own)
+  // along which the grey values agree no worse with the pose moved this far either way (metres
+  // at the mean depth; the 5 cm of a silent failure) is DEGRADED, its pose unchanged: a
+  // linearised step cannot see a pose beyond the grey values' reach. 0: never (README "Weak
+  // directions the grey values cannot tell apart").
   float align_confirm_shift_m = 0.05f;
   float align_photometric_weight = 0.1f;  // grey residuals in the refinement (0: depth only)
   // Grey-value steps after depth alone fixed all six directions (paper: none; 0: none).
