@@ -18,8 +18,8 @@ bool releaseFreedMemory();
 // glibc hands blocks over its mmap threshold (128 KiB, raised on the fly) straight back to the
 // operating system when freed, and trims a heap's free top over 128 KiB: every 0.9 MB frame
 // message gRPC receives then faults its pages in anew (about 90 page faults per VGA frame, and a
-// request path of 2-4 ms instead of 0.7 ms on one frame in four: README "Load tester and
-// capacity"). Fixed thresholds keep those blocks for the next frame; what sessions leave behind
+// request path of 2-4 ms instead of 0.7 ms on one frame in four: docs/performance.md,
+// "Capacity"). Fixed thresholds keep those blocks for the next frame; what sessions leave behind
 // is still given back by releaseFreedMemory when none is open. Call once, before the first
 // thread starts. True when the allocator supports it (glibc).
 inline constexpr int kLargestMappedBlockBytes = 32 << 20;  // glibc's largest mmap threshold

@@ -263,9 +263,9 @@ TEST(Accuracy, BackFromLostOnlyAPoseDepthFixesEverywhereIsOk) {
 // Stress sequence 17 turns with one plane in view for stretches, where a direction is left free
 // and the frames are not verified. Refined from the prediction with five directions fixed by
 // depth, they still measure the motion: without that, the velocity decays to standing still
-// over the stretch while the camera turns, and every prediction lags the turn (README "The pose
-// check": 0.183 to 0.086 m on this sequence's PNG folder; rendered in memory here, 0.208 to
-// 0.147 m).
+// over the stretch while the camera turns, and every prediction lags the turn (docs/accuracy.md,
+// "The pose check": 0.183 to 0.086 m on this sequence's PNG folder; rendered in memory here, 0.208
+// to 0.147 m).
 TEST(Accuracy, UnverifiedFramesThatDepthFixesKeepTheMotionModelMoving) {
   const RenderedSequence s = render(synth::stressSequenceConfig(17));
   OdometryConfig only_verified;

@@ -2,7 +2,7 @@
 // capture ground truth, CC BY 4.0; ../shared/data/README.md), read through the normal dataset
 // reader with the tum_fr1 preset (TUM's distortion coefficients). The bounds are the figures of the
 // commit that added this test, so that any regression shows; they are to be tightened as the
-// odometry improves, never loosened. Peers on the same frames are in the README.
+// odometry improves, never loosened. Peers on the same frames are in the README, "Results".
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -79,7 +79,7 @@ TEST(RealData, TumFr1RpyNoWorseThanTheRecordedBaseline) {
 // 50; since unverified frames that depth fixes keep the motion, 0.0421 m and 0.0934 m; since the
 // grey-depth gap rule, no silent failure at either speed, 97 and 51 frames OK); the
 // best peers measured on the same frames, OpenCV's ICPOdometry: 0.054 m (7 silent) and 0.077 m
-// (14 silent), README "How we compare".
+// (14 silent), docs/accuracy.md "How we compare".
 TEST(RealData, TumFr1RpyTwiceAndThreeTimesAsFastNoWorseThanTheRecordedBaseline) {
   const std::string folder = clipFolder();
   if (!std::filesystem::is_directory(folder))

@@ -236,7 +236,7 @@ TEST_F(DepthAlignmentTest, APlantedOnePeriodTranslationErrorIsNotCalledOk) {
 // Depth off by a bowl that grows towards the image border (as a structured-light sensor's is):
 // depth alone fixes all six directions, a little wrongly, and the grey values, unbiased, pull
 // the pose back towards the truth. (Their weight keeps that pull small; the real clip and the
-// stress suite measure what it is worth: README, "Accuracy".)
+// stress suite measure what it is worth: docs/accuracy.md.)
 TEST_F(DepthAlignmentTest, GreyValuesPolishAPoseThatBiasedDepthFixedAlone) {
   const Isometry3d truth = motion(0.02, {0.2, 1, 0}, {0.03, -0.01, 0.02});
   RgbdFrame frame = seq_->renderAt(T0_ * truth, 0.033, 1).frame;

@@ -1,6 +1,6 @@
 #pragma once
 // Every tunable of the odometry in one place, with the defaults of METHOD.md (the authors'),
-// except where the README's ablation table measured a gain (marked "paper:" below).
+// except where the ablation table of docs/accuracy.md measured a gain (marked "paper:" below).
 #include <string>
 
 #include "nidevo/odometry/depth_alignment.hpp"
@@ -65,17 +65,18 @@ struct OdometryConfig {
   // FFTW_MEASURE planning: maybe a little faster, but the plan (and so the last bits of every
   // pose) can differ between processes. Off: the same frames give the same poses everywhere.
   bool fft_measure = false;
-  int psr_exclusion = 5;    // side lobe excludes (2n+1)^2 around the peak
-  float psr_bound = 30.0f;  // translation keyframe renewed at or below; paper: 50 (README: seeds)
-  float psr_min = 8.0f;     // below: the KCC match is not trusted
+  int psr_exclusion = 5;  // side lobe excludes (2n+1)^2 around the peak
+  // Translation keyframe renewed at or below; paper: 50 (docs/accuracy.md, "Other seeds").
+  float psr_bound = 30.0f;
+  float psr_min = 8.0f;  // below: the KCC match is not trusted
   // KCC maxima of at least this fraction of the highest compete; the one nearest the motion
   // model's predicted shift wins (a periodic texture's next period). 1: the highest only.
   float kcc_prior_ratio = 0.9f;
   // A KCC response still at kcc_ridge_ratio of its peak kcc_ridge_cells away along an axis of
   // the projection did not measure the translation along that axis: a direction the pose check
   // leaves free along it is then not the method's measurement (0: never). Off by default: at 0.6
-  // it caught 1 of 4 silent failures on never-seen seeds and demoted 94 good frames (README,
-  // "Never-seen seeds 40-59").
+  // it caught 1 of 4 silent failures on never-seen seeds and demoted 94 good frames
+  // (docs/accuracy.md, "Never-seen seeds 40-59").
   int kcc_ridge_cells = 8;
   float kcc_ridge_ratio = 0.0f;
   float depth_gray_tolerance = 0.1f;  // Eq. 18 inlier test on intensity
@@ -89,7 +90,7 @@ struct OdometryConfig {
   int verify_sample_step = 4;  // every n-th smooth normal-map pixel of the reference
   int align_iterations = 10;   // 0: the method's pose is checked, never changed
   // A step under this (rotation as metres at the mean depth, and translation) ends the
-  // refinement: far under a depth sensor's noise (README "Speed" measures it).
+  // refinement: far under a depth sensor's noise (docs/performance.md measures it).
   float align_converged_m = 1e-4f;
   float align_max_distance_m = 0.08f;  // association gate
   float align_inlier_m = 0.02f;  // inlier residual, plus align_inlier_per_m per metre of depth
@@ -98,19 +99,19 @@ struct OdometryConfig {
   float align_min_eigenvalue = 0.004f;  // weaker directions keep the hypothesis' value
   // A frame reported DEGRADED or LOST is refined once more along the weak directions of at
   // least this eigenvalue (grey values too weak to verify them may still point the right way);
-  // the status stays. 0: never. README "The pose check" measures it.
+  // the status stays. 0: never. docs/accuracy.md "The pose check" measures it.
   float align_step_eigenvalue = 0.001f;
   float align_step_inlier_slack = 0.01f;  // that pass may lose this fraction of the inliers
   // A weaker direction, of at least this eigenvalue, whose would-be step stays within
   // align_confirm_step_m (metres at the mean depth) confirms the hypothesis' value there, and
-  // counts as fixed for OK (0: never; README "Accuracy" measures the pair).
+  // counts as fixed for OK (0: never; docs/accuracy.md measures the pair).
   float align_confirm_eigenvalue = 3e-4f;
   float align_confirm_step_m = 0.005f;
   // An OK frame whose status rests on a weak direction's value (confirmed, or the method's own)
   // along which the grey values agree no worse with the pose moved this far either way (metres
   // at the mean depth; the 5 cm of a silent failure) is DEGRADED, its pose unchanged: a
-  // linearised step cannot see a pose beyond the grey values' reach. 0: never (README "Weak
-  // directions the grey values cannot tell apart").
+  // linearised step cannot see a pose beyond the grey values' reach. 0: never (docs/accuracy.md
+  // "Weak directions the grey values cannot tell apart").
   float align_confirm_shift_m = 0.05f;
   float align_photometric_weight = 0.1f;  // grey residuals in the refinement (0: depth only)
   // Grey-value steps after depth alone fixed all six directions (paper: none; 0: none).
@@ -124,12 +125,12 @@ struct OdometryConfig {
   // (AlignmentResult::grey_depth_gap_rad) is DEGRADED, its pose unchanged: the sensors measured
   // different motions (a real camera's colour and depth taken apart in time, motion blur). Above
   // every verified frame of the stress suite (max 0.83 deg), half the 2 deg of a silent failure;
-  // 0: never (README "Accuracy").
+  // 0: never (docs/accuracy.md).
   float verify_max_grey_depth_gap_rad = 0.017453292f;  // 1 deg
   // An OK frame whose spread (AlignmentResult::sigma_*) times this reaches beyond the accuracy
   // asked of OK frames (prediction_trust_rad, prediction_trust_m) is DEGRADED, its pose
   // unchanged: the sensor noise alone leaves it less sure than OK says. 2: about 95 % of a
-  // Gaussian spread; 0: never (README "The pose's spread").
+  // Gaussian spread; 0: never (docs/accuracy.md "The pose's spread").
   float verify_max_spread_sigmas = 2.0f;
   // Motion prior: a verified pose this far (together) from the prediction has the prediction
   // tried too; fits within hypothesis_tie (relative) are a tie, won by the pose nearer it.
@@ -142,7 +143,7 @@ struct OdometryConfig {
   // prediction_trust_rad and _m of the motion prediction, and the prediction's RMS error over
   // the last prediction_trust_frames verified frames, the latest at most prediction_trust_gap
   // frames back, was within them too, the frame is OK (0 frames: never). The bounds are the
-  // accuracy asked of OK frames (README "Accuracy"), not fitted.
+  // accuracy asked of OK frames (docs/accuracy.md), not fitted.
   int prediction_trust_frames = 5;
   int prediction_trust_gap = 3;
   float prediction_trust_rad = 0.0052359878f;  // 0.3 deg
@@ -155,8 +156,8 @@ struct OdometryConfig {
   // depth, it updates the motion model's velocity. Along the rest it holds the prediction's own
   // value or the grey values', so the prediction confirms little it did not already say (the
   // method's value there, an unverified KCC peak, would; so may grey values alone, a texture
-  // period away: README "The pose check"). 7: only verified poses do, and the velocity decays
-  // over a stretch of unverified frames.
+  // period away: docs/accuracy.md "The pose check"). 7: only verified poses do, and the velocity
+  // decays over a stretch of unverified frames.
   int unverified_motion_min_directions = 5;
 
   // Tracking state.
@@ -166,7 +167,7 @@ struct OdometryConfig {
   // frames (prediction_trust_*), a frame is OK only where depth fixed at least this many of its
   // 6 directions: the pose check's minimum, found from a hypothesis the lost stretch left far off,
   // may be a wrong one that depth and grey values agree on. The pose is unchanged (0: never;
-  // README "Accuracy").
+  // docs/accuracy.md "Accuracy").
   int recovery_min_depth_directions = 6;
 
   // Empty when valid, else a message naming the bad field.
