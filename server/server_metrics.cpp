@@ -58,9 +58,9 @@ ServerMetrics::ServerMetrics(const std::string& version)
                      .Name("nidevo_pose_checks_total")
                      .Help(
                          "Pose checks of tracked frames, by the hypothesis kept (method, "
-                         "prediction, last_pose) and the verdict (passed, failed)")
+                         "prediction, last_pose, coarse_to_fine) and the verdict (passed, failed)")
                      .Register(*registry_);
-  const char* hypotheses[] = {"method", "prediction", "last_pose"};
+  const char* hypotheses[] = {"method", "prediction", "last_pose", "coarse_to_fine"};
   for (size_t h = 0; h < checks_.size(); ++h)
     for (size_t passed = 0; passed < 2; ++passed)
       checks_[h][passed] =
@@ -124,6 +124,8 @@ void ServerMetrics::poseCheck(const char* hypothesis, bool passed, double residu
     h = 1;
   } else if (std::strcmp(hypothesis, "last pose") == 0) {
     h = 2;
+  } else if (std::strcmp(hypothesis, "prediction coarse to fine") == 0) {
+    h = 3;
   } else {
     return;  // not checked (first frame, no depth)
   }

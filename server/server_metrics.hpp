@@ -46,7 +46,7 @@ class ServerMetrics {
   prometheus::Histogram* frame_latency_ = nullptr;
   std::array<prometheus::Histogram*, 5> stages_{};
   prometheus::Histogram* psr_ = nullptr;
-  std::array<std::array<prometheus::Counter*, 2>, 3> checks_{};  // [hypothesis][passed]
+  std::array<std::array<prometheus::Counter*, 2>, 4> checks_{};  // [hypothesis][passed]
   prometheus::Histogram* check_residual_ = nullptr;
   prometheus::Counter* rotation_keyframes_ = nullptr;
   prometheus::Counter* translation_keyframes_ = nullptr;

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include "counting_new.hpp"
+#include "map_frame.hpp"
 #include "nidevo/io/camera_io.hpp"
+#include "nidevo/odometry/depth_alignment.hpp"
 #include "nidevo/odometry/odometry.hpp"
 #include "nidevo/sim/sequence.hpp"
 
@@ -37,6 +39,36 @@ TEST(Allocation, SteadyStateTrackingAllocatesNothing) {
   counting = false;
   EXPECT_EQ(allocations.load(), 0);
   EXPECT_GT(keyframes, 0);  // the keyframe paths were exercised too
+}
+
+// The pose check's coarse-to-fine hypothesis, run only when every other one failed, so rarely
+// that the tracking loop above may never reach it: its pyramid and alignments on their own.
+TEST(Allocation, CoarseToFineAlignmentAllocatesNothingOnceReserved) {
+  synth::SequenceConfig c;
+  c.frames = 10;
+  c.camera = cameraPreset("icl")->subsampled(2);
+  const synth::SyntheticSequence seq(c);
+  const OdometryConfig config;
+  const test::MapFrame ref = test::mapOf(seq.renderFrame(0), c.camera, config);
+  const test::MapFrame cur = test::mapOf(seq.renderFrame(9), c.camera, config);
+  const Camera map_camera = c.camera.subsampled(config.normal_stride);
+  SurfaceSample sample;
+  sampleSurface(ref.map, ref.intensity, config.verify_sample_step, &sample);
+  AlignmentTarget target;
+  buildAlignmentTarget(cur.map, cur.intensity, &target);
+  AlignmentPyramid pyramid;
+  pyramid.reserve(config.align_coarse_levels, map_camera, target.width, target.height);
+  DepthAligner aligner;
+  aligner.reserve(sample.size());
+  const AlignmentParams params = alignmentParams(config);
+  allocations = 0;
+  counting = true;
+  pyramid.build(target);
+  const AlignmentResult a = aligner.alignCoarseToFine(sample, target, map_camera, pyramid,
+                                                      Eigen::Isometry3d::Identity(), params);
+  counting = false;
+  EXPECT_EQ(allocations.load(), 0);
+  EXPECT_GT(a.steps, 0);  // it aligned
 }
 
 }  // namespace

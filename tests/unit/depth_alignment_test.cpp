@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <limits>
 #include <random>
 
+#include "map_frame.hpp"
 #include "nidevo/odometry/odometry_config.hpp"
 #include "nidevo/odometry/pose_check.hpp"
 #include "nidevo/sim/sequence.hpp"
@@ -13,25 +15,8 @@ namespace nidevo {
 namespace {
 
 using Eigen::Isometry3d;
-
-// A rendered frame's normal map and grey values at the map's pixels, as the odometry has them.
-struct MapFrame {
-  NormalMap map;
-  std::vector<float> intensity;
-};
-
-MapFrame mapOf(const RgbdFrame& frame, const Camera& camera, const OdometryConfig& c) {
-  MapFrame out;
-  NormalMapBuilder builder;
-  builder.compute(frame.depth, PixelRays(camera, c.normal_stride), c.cell_size,
-                  c.depth_discontinuity, c.min_depth_m, c.max_depth_m, c.crease_dot, &out.map);
-  out.intensity.resize(out.map.normal.size());
-  for (int v = 0; v < out.map.height; ++v)
-    for (int u = 0; u < out.map.width; ++u)
-      out.intensity[size_t(v * out.map.width + u)] =
-          float(frame.gray.at(u * c.normal_stride, v * c.normal_stride)) / 255.f;
-  return out;
-}
+using test::MapFrame;
+using test::mapOf;
 
 Isometry3d motion(double angle, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
   Isometry3d T = Isometry3d::Identity();
@@ -517,6 +502,77 @@ TEST(DepthAlignmentLensTest, RefinementThroughALensRecoversAKnownMotion) {
   EXPECT_LT(err.translation().norm(), 0.003);
   EXPECT_GT(lens.inlierFraction(), 0.95);
   EXPECT_LT(lens.rms_m, no_lens.rms_m) << "ignoring the lens must fit worse";
+}
+
+TEST(AlignmentTargetTest, HalvedTargetKeepsABlocksPlaneAndSmoothsTheGreyValues) {
+  AlignmentTarget fine;
+  fine.width = 6;
+  fine.height = 4;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (int j = 0; j < 24; ++j) {
+    fine.plane.emplace_back(0.f, 0.f, -1.f, -float(j));  // each pixel's own plane
+    fine.grey.push_back(float(j % 6) * 0.1f + float(j / 6) * 0.01f);
+  }
+  fine.plane[2] = Eigen::Vector4f::Constant(nan);  // block (1, 0): top-left has no surface
+  for (const size_t j : {4, 5, 10, 11}) fine.plane[j] = Eigen::Vector4f::Constant(nan);
+  AlignmentTarget half;
+  halveAlignmentTarget(fine, &half);
+  ASSERT_EQ(half.width, 3);
+  ASSERT_EQ(half.height, 2);
+  EXPECT_FLOAT_EQ(half.plane[0].w(), 0.f) << "the top-left pixel's plane";
+  EXPECT_FLOAT_EQ(half.plane[1].w(), -3.f) << "the block's first valid plane";
+  EXPECT_TRUE(std::isnan(half.plane[2].w())) << "a block without surface has none";
+  EXPECT_FLOAT_EQ(half.plane[3].w(), -12.f);
+  // Inside, [1 2 1] x [1 2 1] of a linear ramp is the ramp at the centre pixel (2u, 2v).
+  EXPECT_NEAR(half.grey[4], fine.grey[2 * 6 + 2], 1e-6f);
+  // At the border the ramp's missing side is the border pixel itself.
+  EXPECT_NEAR(half.grey[0],
+              (9 * fine.grey[0] + 3 * fine.grey[1] + 3 * fine.grey[6] + fine.grey[7]) / 16.f,
+              1e-6f);
+}
+
+// A wall 2 m ahead tiled at two scales, 6 cm and 60 cm: from standing still, a sideways move of
+// more than half the fine period lands a one-level alignment on the fine tiles' next period,
+// where everything agrees; aligning the prediction coarse to fine first follows the broad tiles.
+TEST_F(DepthAlignmentTest, CoarseToFineReachesAMoveThatOneLevelTakesForTheNextPeriod) {
+  const RgbdFrame like = seq_->renderFrame(0);
+  auto wall = [&](double shift) {
+    RgbdFrame f = like;
+    std::fill(f.depth.data.begin(), f.depth.data.end(), 2.f);
+    for (int v = 0; v < camera_.height; ++v) {
+      for (int u = 0; u < camera_.width; ++u) {
+        const double x = (u - camera_.cx) / camera_.fx * 2 + shift;
+        const double y = (v - camera_.cy) / camera_.fy * 2;
+        f.gray.at(u, v) =
+            uint8_t(128 + 25 * (std::cos(2 * M_PI * x / 0.06) + std::cos(2 * M_PI * y / 0.06)) +
+                    30 * (std::cos(2 * M_PI * x / 0.6) + std::cos(2 * M_PI * y / 0.6)));
+      }
+    }
+    return f;
+  };
+  const MapFrame ref = mapOf(wall(0), camera_, config_);
+  SurfaceSample sample;
+  sampleSurface(ref.map, ref.intensity, config_.verify_sample_step, &sample);
+  const AlignmentParams p = alignmentParams(config_);
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  AlignmentPyramid pyramid;
+  pyramid.reserve(config_.align_coarse_levels, map_camera, map_camera.width, map_camera.height);
+  ASSERT_EQ(config_.align_coarse_levels, 2);
+  for (const double shift : {0.04, 0.08, 0.12}) {
+    const MapFrame cur = mapOf(wall(shift), camera_, config_);
+    AlignmentTarget target;
+    buildAlignmentTarget(cur.map, cur.intensity, &target);
+    pyramid.build(target);
+    const Isometry3d truth = motion(0, {0, 1, 0}, {shift, 0, 0});
+    const AlignmentResult one =
+        aligner_.align(sample, target, map_camera, Isometry3d::Identity(), p);
+    const AlignmentResult both =
+        aligner_.alignCoarseToFine(sample, target, map_camera, pyramid, Isometry3d::Identity(), p);
+    EXPECT_GT((truth.inverse() * one.T_ref_cur).translation().norm(), 0.04) << shift;
+    EXPECT_LT((truth.inverse() * both.T_ref_cur).translation().norm(), 0.001) << shift;
+    EXPECT_LT(angleDeg(truth.inverse() * both.T_ref_cur), 0.05) << shift;
+    EXPECT_TRUE(judgeAlignment(both, config_).passed) << shift;
+  }
 }
 
 }  // namespace

@@ -354,6 +354,9 @@ TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
   bad.align_confirm_shift_m = -0.01f;
   EXPECT_NE(bad.validate().find("align_confirm_shift_m"), std::string::npos);
   bad = OdometryConfig{};
+  bad.align_coarse_levels = 4;
+  EXPECT_NE(bad.validate().find("align_coarse_levels"), std::string::npos);
+  bad = OdometryConfig{};
   bad.plane_pixel_step = 0;
   EXPECT_NE(bad.validate().find("plane_pixel_step"), std::string::npos);
   bad = OdometryConfig{};

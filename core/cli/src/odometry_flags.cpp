@@ -98,6 +98,9 @@ ABSL_FLAG(double, align_confirm_step, shortestDecimal(kDefaults.align_confirm_st
           "Largest would-be step along a weak direction that confirms the hypothesis (m)");
 ABSL_FLAG(int, align_polish_iterations, kDefaults.align_polish_iterations,
           "Grey-value refinement steps after depth alone fixed all six directions (0: none)");
+ABSL_FLAG(int, align_coarse_levels, kDefaults.align_coarse_levels,
+          "When no hypothesis passes the pose check, the prediction aligned coarse to fine from "
+          "the frame halved this many times (0: never)");
 ABSL_FLAG(int, verify_sample_step, kDefaults.verify_sample_step,
           "Check every n-th smooth normal-map pixel of the reference");
 ABSL_FLAG(double, verify_min_inliers, shortestDecimal(kDefaults.verify_min_inliers),
@@ -165,6 +168,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.align_step_inlier_slack = float(absl::GetFlag(FLAGS_align_step_inlier_slack));
   c.align_photometric_weight = float(absl::GetFlag(FLAGS_align_photometric_weight));
   c.align_polish_iterations = absl::GetFlag(FLAGS_align_polish_iterations);
+  c.align_coarse_levels = absl::GetFlag(FLAGS_align_coarse_levels);
   c.align_confirm_eigenvalue = float(absl::GetFlag(FLAGS_align_confirm_eigenvalue));
   c.align_confirm_step_m = float(absl::GetFlag(FLAGS_align_confirm_step));
   c.align_confirm_shift_m = float(absl::GetFlag(FLAGS_align_confirm_shift));

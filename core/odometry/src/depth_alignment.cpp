@@ -281,6 +281,55 @@ Vector6d stepAlone(const Eigen6& eig, const Vector6d& b, double min_eigenvalue) 
 
 }  // namespace
 
+void halveAlignmentTarget(const AlignmentTarget& fine, AlignmentTarget* out) {
+  const int W = fine.width / 2, H = fine.height / 2;
+  out->width = W;
+  out->height = H;
+  out->plane.resize(size_t(W) * size_t(H));
+  out->grey.resize(size_t(W) * size_t(H));
+  const int fw = fine.width, fh = fine.height;
+  auto fineAt = [&](int u, int v) { return size_t(v) * size_t(fw) + size_t(u); };
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const size_t c = size_t(v) * size_t(W) + size_t(u);
+      const size_t f = fineAt(2 * u, 2 * v);
+      const size_t block[4] = {f, f + 1, f + size_t(fw), f + size_t(fw) + 1};
+      out->plane[c] = fine.plane[f];
+      for (const size_t b : block) {
+        if (!std::isnan(fine.plane[b].w())) {
+          out->plane[c] = fine.plane[b];
+          break;
+        }
+      }
+      float sum = 0.f;
+      for (int dv = -1; dv <= 1; ++dv) {
+        const int fv = std::clamp(2 * v + dv, 0, fh - 1);
+        for (int du = -1; du <= 1; ++du) {
+          const int fu = std::clamp(2 * u + du, 0, fw - 1);
+          sum += float((2 - std::abs(du)) * (2 - std::abs(dv))) * fine.grey[fineAt(fu, fv)];
+        }
+      }
+      out->grey[c] = sum / 16.f;
+    }
+  }
+}
+
+void AlignmentPyramid::reserve(int levels, const Camera& fine_camera, int width, int height) {
+  level.resize(size_t(levels));
+  camera.clear();
+  for (int k = 0; k < levels; ++k) {
+    camera.push_back(fine_camera.subsampled(2 << k));
+    const size_t n = size_t(width >> (k + 1)) * size_t(height >> (k + 1));
+    level[size_t(k)].plane.reserve(n);
+    level[size_t(k)].grey.reserve(n);
+  }
+}
+
+void AlignmentPyramid::build(const AlignmentTarget& fine) {
+  for (size_t k = 0; k < level.size(); ++k)
+    halveAlignmentTarget(k ? level[k - 1] : fine, &level[k]);
+}
+
 void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& cur,
                                const Camera& map_camera, const AlignmentParams& prm,
                                double depth_scale, bool photometric, int iterations,
@@ -430,6 +479,15 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTar
   evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, Rows::kNone, &res);
   res.T_ref_cur = T_cur_ref.inverse();
   return res;
+}
+
+AlignmentResult DepthAligner::alignCoarseToFine(
+    const SurfaceSample& ref, const AlignmentTarget& cur, const Camera& map_camera,
+    const AlignmentPyramid& pyramid, const Isometry3d& T_ref_cur, const AlignmentParams& prm) {
+  Isometry3d T = T_ref_cur;
+  for (size_t k = pyramid.level.size(); k-- > 0;)
+    T = align(ref, pyramid.level[k], pyramid.camera[k], T, prm).T_ref_cur;
+  return align(ref, cur, map_camera, T, prm);
 }
 
 DepthAligner::Untold DepthAligner::untoldWeakDirections(const SurfaceSample& ref,

@@ -86,6 +86,8 @@ std::string OdometryConfig::validate() const {
     return "verify_max_spread_sigmas must be in [0, 1000]";
   if (align_polish_iterations < 0 || align_polish_iterations > 50)
     return "align_polish_iterations must be in 0..50";
+  if (align_coarse_levels < 0 || align_coarse_levels > 3)
+    return "align_coarse_levels must be in 0..3";
   if (!in(verify_min_inliers, 0, 1)) return "verify_min_inliers must be in [0, 1]";
   if (!in(verify_min_overlap, 0, 1)) return "verify_min_overlap must be in [0, 1]";
   if (!in(verify_max_rms_m, 0, 10)) return "verify_max_rms_m must be in [0, 10]";

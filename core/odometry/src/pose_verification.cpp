@@ -130,10 +130,11 @@ Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isome
   const Isometry3d hypotheses[] = {v.T_method_ref.inverse() * T_method,
                                    v.T_out_ref.inverse() * v.motion.predict(s.timestamp),
                                    v.T_out_ref.inverse() * v.motion.last()};
-  const char* const names[] = {"method", "prediction", "last pose"};
+  const char* const names[] = {"method", "prediction", "last pose", "prediction coarse to fine"};
+  constexpr int kMost = 4;
   const Isometry3d& predicted = hypotheses[1];
-  AlignmentResult results[3];
-  CheckVerdict verdicts[3];
+  AlignmentResult results[kMost];
+  CheckVerdict verdicts[kMost];
   int tried = 0;
   buildAlignmentTarget(s.normals, s.map_intensity, &v.target);
   for (int h = 0; h < 3; ++h) {
@@ -145,8 +146,17 @@ Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isome
         !farApart(results[0].T_ref_cur, predicted, config_))
       break;
   }
+  // None passed: the motion may have left every hypothesis outside the data's basin.
+  if (tried == 3 && !verdicts[0].passed && !verdicts[1].passed && !verdicts[2].passed &&
+      !v.coarse.level.empty()) {
+    v.coarse.build(v.target);
+    results[3] = v.aligner.alignCoarseToFine(v.reference, v.target, v.map_camera, v.coarse,
+                                             predicted, v.params);
+    verdicts[3] = judgeAlignment(results[3], config_);
+    tried = 4;
+  }
   const bool rotation_measured = s.rotation_source == RotationSource::kPlanes;
-  HypothesisOrigin origins[3];
+  HypothesisOrigin origins[kMost];
   for (int h = 0; h < tried; ++h) origins[h] = {h == 0, rotation_measured, translation_measured};
   CheckedPose c;
   c.choice = chooseHypothesis(results, verdicts, origins, tried, predicted, config_);
@@ -194,7 +204,7 @@ void Odometry::updateMotion(const FrameState& s, const CheckedPose& c, const Iso
   // would decay to standing still over a stretch the data say is a turn. Whatever its status,
   // so that the status rules never change a pose.
   const bool measured_from_prediction =
-      std::string_view(c.hypothesis) == "prediction" && out->verification.passed &&
+      std::string_view(c.hypothesis).rfind("prediction", 0) == 0 && out->verification.passed &&
       out->verification.depth_constrained_directions >= config_.unverified_motion_min_directions;
   v.motion.update(out->T_world_cam, verified || measured_from_prediction, s.timestamp);
   // A frame not verified renews the reference, so that the next frames are checked against what

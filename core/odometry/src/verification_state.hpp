@@ -18,6 +18,8 @@ struct Odometry::VerificationState {
     reference.normal.reserve(most);
     reference.intensity.reserve(most);
     aligner.reserve(most);
+    coarse.reserve(c.align_coarse_levels, map_camera, camera.width / c.normal_stride,
+                   camera.height / c.normal_stride);
   }
   const AlignmentParams params;
   const Camera map_camera;
@@ -31,7 +33,8 @@ struct Odometry::VerificationState {
   MotionModel motion;       // of the reported poses; measured: verified
   PredictionRecord prediction;
   DepthAligner aligner;
-  AlignmentTarget target;  // the current frame, shared by the hypotheses
+  AlignmentTarget target;   // the current frame, shared by the hypotheses
+  AlignmentPyramid coarse;  // of target: built only when no hypothesis passed
 };
 
 // The hypothesis the check chose for a frame, in the reference's frame, and how it fared.
@@ -40,7 +43,8 @@ struct Odometry::CheckedPose {
   CheckVerdict verdict;
   HypothesisChoice choice;
   HypothesisOrigin origin;
-  const char* hypothesis = "method";  // which: "method", "prediction" or "last pose"
+  // which: "method", "prediction", "last pose" or "prediction coarse to fine"
+  const char* hypothesis = "method";
   Eigen::Isometry3d T_ref_predicted = Eigen::Isometry3d::Identity();
 };
 

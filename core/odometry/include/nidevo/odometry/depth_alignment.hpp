@@ -45,6 +45,24 @@ struct AlignmentTarget {
 void buildAlignmentTarget(const NormalMap& map, const std::vector<float>& intensity,
                           AlignmentTarget* out);
 
+// `fine` at half its width and height, for a coarse-to-fine alignment whose first steps reach
+// farther: per 2x2 block the top-left pixel's plane (or the block's first valid one: the plane
+// passes through that pixel's point, which lies within the block), and the grey values smoothed
+// by [1 2 1] x [1 2 1] around the top-left pixel. map_camera.subsampled(2) is the camera of the
+// coarse pixels.
+void halveAlignmentTarget(const AlignmentTarget& fine, AlignmentTarget* out);
+
+// A target halved once, twice..., with the camera of each level's pixels.
+struct AlignmentPyramid {
+  std::vector<AlignmentTarget> level;  // level[0]: half the finest target's size
+  std::vector<Camera> camera;
+  // Room for `levels` halvings of a width x height target seen by fine_camera, so that building
+  // never allocates.
+  void reserve(int levels, const Camera& fine_camera, int width, int height);
+  // Every level from `fine` (of the reserved size).
+  void build(const AlignmentTarget& fine);
+};
+
 struct AlignmentParams {
   int iterations = 10;  // Gauss-Newton steps; 0: evaluate the hypothesis only
   // Converged when a step moves the surface less than this (rotation at the mean depth, and
@@ -142,6 +160,13 @@ class DepthAligner {
   AlignmentResult refineAlongWeakDirections(const SurfaceSample& ref, const AlignmentTarget& cur,
                                             const Camera& map_camera, const AlignmentResult& from,
                                             const AlignmentParams& params);
+  // From T_ref_cur, aligned on the pyramid's coarsest level first, then on each finer one, then
+  // on `cur` itself (the pyramid built from it): a wider reach than one level's, for a motion
+  // that left the hypothesis outside the data's basin at full resolution.
+  AlignmentResult alignCoarseToFine(const SurfaceSample& ref, const AlignmentTarget& cur,
+                                    const Camera& map_camera, const AlignmentPyramid& pyramid,
+                                    const Eigen::Isometry3d& T_ref_cur,
+                                    const AlignmentParams& params);
   // Of the weak directions of `result` (of align), those along which the grey values agree no
   // worse (NCC) with its pose moved params.confirm_shift_m either way, and how many of them were
   // confirmed: a would-be step from a linearisation cannot see a pose beyond the grey values'

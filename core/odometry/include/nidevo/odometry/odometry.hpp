@@ -144,7 +144,8 @@ class Odometry {
   struct CheckedPose;
   void reportLostWithoutDepth(const FrameState& state, const Eigen::Isometry3d& T_method,
                               const char* method_problem, PoseEstimate* out);
-  // Aligns the method's pose, then if needed the prediction and the last pose, and chooses.
+  // Aligns the method's pose, then if needed the prediction and the last pose, then if none
+  // passed the prediction coarse to fine, and chooses.
   CheckedPose checkHypotheses(const FrameState& state, const Eigen::Isometry3d& T_method,
                               const char* method_problem, bool translation_measured);
   // Betters a pose not called OK along what it leaves free; its status stays.

@@ -116,6 +116,10 @@ struct OdometryConfig {
   float align_photometric_weight = 0.1f;  // grey residuals in the refinement (0: depth only)
   // Grey-value steps after depth alone fixed all six directions (paper: none; 0: none).
   int align_polish_iterations = 3;
+  // When no hypothesis passes the check, one more: the prediction aligned on the current frame
+  // halved this many times first, then on each finer level (a wider reach than one level's, for
+  // a motion that left every hypothesis outside the data's basin). 0: none.
+  int align_coarse_levels = 2;
   float verify_min_inliers = 0.7f;  // of the associated points
   float verify_min_overlap = 0.3f;  // of the sample landing on the current surface
   float verify_max_rms_m = 0.03f;
