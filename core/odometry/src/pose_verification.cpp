@@ -131,10 +131,10 @@ Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isome
                                    v.T_out_ref.inverse() * v.motion.predict(s.timestamp),
                                    v.T_out_ref.inverse() * v.motion.last()};
   const char* const names[] = {"method", "prediction", "last pose", "prediction coarse to fine"};
-  constexpr int kMost = 4;
+  constexpr int kHypotheses = 4;
   const Isometry3d& predicted = hypotheses[1];
-  AlignmentResult results[kMost];
-  CheckVerdict verdicts[kMost];
+  AlignmentResult results[kHypotheses];
+  CheckVerdict verdicts[kHypotheses];
   int tried = 0;
   buildAlignmentTarget(s.normals, s.map_intensity, &v.target);
   for (int h = 0; h < 3; ++h) {
@@ -156,7 +156,7 @@ Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isome
     tried = 4;
   }
   const bool rotation_measured = s.rotation_source == RotationSource::kPlanes;
-  HypothesisOrigin origins[kMost];
+  HypothesisOrigin origins[kHypotheses];
   for (int h = 0; h < tried; ++h) origins[h] = {h == 0, rotation_measured, translation_measured};
   CheckedPose c;
   c.choice = chooseHypothesis(results, verdicts, origins, tried, predicted, config_);
