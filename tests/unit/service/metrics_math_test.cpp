@@ -118,5 +118,26 @@ TEST(ServerMetrics, RecordsWhatTheSessionReports) {
   EXPECT_EQ(client::valueOf(m, "nidevo_build_info{api=\"nidevo.v1\",version=\"1.2.3\"}"), 1);
 }
 
+TEST(ServerMetrics, CountsPoseChecksByTheHypothesisKept) {
+  server::ServerMetrics metrics("1.2.3");
+  metrics.poseCheck("method", true, 0.004);
+  metrics.poseCheck("last pose", false, 0.02);
+  metrics.poseCheck("prediction coarse to fine", true, 0.006);
+  metrics.poseCheck("", false, 0.0);  // not checked (first frame, no depth): not counted
+  std::ostringstream out;
+  prometheus::TextSerializer().Serialize(out, metrics.registry()->Collect());
+  const auto m = client::parsePrometheusText(out.str());
+  EXPECT_EQ(client::valueOf(m, "nidevo_pose_checks_total{hypothesis=\"method\",result=\"passed\"}"),
+            1);
+  EXPECT_EQ(
+      client::valueOf(m, "nidevo_pose_checks_total{hypothesis=\"last_pose\",result=\"failed\"}"),
+      1);
+  EXPECT_EQ(client::valueOf(
+                m, "nidevo_pose_checks_total{hypothesis=\"coarse_to_fine\",result=\"passed\"}"),
+            1);
+  EXPECT_EQ(client::sumOf(m, "nidevo_pose_checks_total"), 3);
+  EXPECT_EQ(client::valueOf(m, "nidevo_pose_check_residual_meters_count"), 3);
+}
+
 }  // namespace
 }  // namespace nidevo
