@@ -57,7 +57,7 @@ TEST(Allocation, CoarseToFineAlignmentAllocatesNothingOnceReserved) {
   AlignmentTarget target;
   buildAlignmentTarget(cur.map, cur.intensity, &target);
   AlignmentPyramid pyramid;
-  pyramid.reserve(config.align_coarse_levels, map_camera, target.width, target.height);
+  pyramid.reserve(config.align_coarse_levels, map_camera);
   DepthAligner aligner;
   aligner.reserve(sample.size());
   const AlignmentParams params = alignmentParams(config);

@@ -556,7 +556,7 @@ TEST_F(DepthAlignmentTest, CoarseToFineReachesAMoveThatOneLevelTakesForTheNextPe
   const AlignmentParams p = alignmentParams(config_);
   const Camera map_camera = camera_.subsampled(config_.normal_stride);
   AlignmentPyramid pyramid;
-  pyramid.reserve(config_.align_coarse_levels, map_camera, map_camera.width, map_camera.height);
+  pyramid.reserve(config_.align_coarse_levels, map_camera);
   ASSERT_EQ(config_.align_coarse_levels, 2);
   for (const double shift : {0.04, 0.08, 0.12}) {
     const MapFrame cur = mapOf(wall(shift), camera_, config_);

@@ -314,12 +314,12 @@ void halveAlignmentTarget(const AlignmentTarget& fine, AlignmentTarget* out) {
   }
 }
 
-void AlignmentPyramid::reserve(int levels, const Camera& fine_camera, int width, int height) {
+void AlignmentPyramid::reserve(int levels, const Camera& fine_camera) {
   level.resize(size_t(levels));
   camera.clear();
   for (int k = 0; k < levels; ++k) {
     camera.push_back(fine_camera.subsampled(2 << k));
-    const size_t n = size_t(width >> (k + 1)) * size_t(height >> (k + 1));
+    const size_t n = size_t(fine_camera.width >> (k + 1)) * size_t(fine_camera.height >> (k + 1));
     level[size_t(k)].plane.reserve(n);
     level[size_t(k)].grey.reserve(n);
   }

@@ -18,8 +18,7 @@ struct Odometry::VerificationState {
     reference.normal.reserve(most);
     reference.intensity.reserve(most);
     aligner.reserve(most);
-    coarse.reserve(c.align_coarse_levels, map_camera, camera.width / c.normal_stride,
-                   camera.height / c.normal_stride);
+    coarse.reserve(c.align_coarse_levels, map_camera);
   }
   const AlignmentParams params;
   const Camera map_camera;

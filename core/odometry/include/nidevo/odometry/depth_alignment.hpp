@@ -56,9 +56,9 @@ void halveAlignmentTarget(const AlignmentTarget& fine, AlignmentTarget* out);
 struct AlignmentPyramid {
   std::vector<AlignmentTarget> level;  // level[0]: half the finest target's size
   std::vector<Camera> camera;
-  // Room for `levels` halvings of a width x height target seen by fine_camera, so that building
-  // never allocates.
-  void reserve(int levels, const Camera& fine_camera, int width, int height);
+  // Room for `levels` halvings of a target of fine_camera's pixels, so that building never
+  // allocates.
+  void reserve(int levels, const Camera& fine_camera);
   // Every level from `fine` (of the reserved size).
   void build(const AlignmentTarget& fine);
 };
