@@ -3,8 +3,9 @@
 # scripts/stress_suite.sh) and on the real clip, one per-frame CSV each, then prints per sequence
 # the ATE, the OK share and the silent failures, and the per-status error table over the suite
 # and over the real clip (as recorded, and every 2nd and 3rd frame: two and three times as
-# fast), and the pose check's reported spread against the error (scripts/sigma_table.py). Extra
-# arguments go to nidevo-run (e.g. --align_photometric_weight 0).
+# fast; and all three played backwards, scripts/reverse_tum.py), and the pose check's reported
+# spread against the error (scripts/sigma_table.py). Extra arguments go to nidevo-run (e.g.
+# --align_photometric_weight 0).
 # Usage: scripts/status_suite.sh [nidevo-run flags...]   (NIDEVO_STATUS_OUT: CSV folder,
 # default build/status; NIDEVO_STATUS_SUITE: the sequences' folder, default build/stress;
 # NIDEVO_STATUS_BIN: the folder of the nidevo-run to measure, default build/bin, e.g. an older
@@ -38,6 +39,12 @@ if [ -d "$real" ]; then
   # The same recording two and three times as fast: every 2nd and 3rd frame.
   run tum_fr1_rpy_x2 --dataset "$real" --camera tum_fr1 --frame_step 2 "$@"
   run tum_fr1_rpy_x3 --dataset "$real" --camera tum_fr1 --frame_step 3 "$@"
+  # The same recording played backwards (scripts/reverse_tum.py), at the three speeds.
+  reversed=build/tum_fr1_rpy_reversed
+  python3 scripts/reverse_tum.py "$real" "$reversed"
+  for step in 1 2 3; do
+    run "tum_fr1_rpy_reversed_x$step" --dataset "$reversed" --camera tum_fr1 --frame_step "$step" "$@"
+  done
 fi
 if [ ${#suite[@]} -gt 0 ]; then
   echo; echo "stress suite (${#suite[@]} sequences):"; python3 scripts/status_table.py "${suite[@]}"
@@ -48,4 +55,6 @@ if [ -d "$real" ]; then
   echo; echo "real clip, spread against error:"; python3 scripts/sigma_table.py "$out/tum_fr1_rpy.csv"
   echo; echo "real clip, two and three times as fast:"
   python3 scripts/status_table.py "$out/tum_fr1_rpy_x2.csv" "$out/tum_fr1_rpy_x3.csv"
+  echo; echo "real clip backwards, as recorded and two and three times as fast:"
+  python3 scripts/status_table.py "$out"/tum_fr1_rpy_reversed_x{1,2,3}.csv
 fi
