@@ -189,6 +189,43 @@ TEST(Odometry, GreyValuesOutOfStepWithDepthAreDegradedWithThePoseUnchanged) {
   EXPECT_EQ(rule_off.T_world_cam.matrix(), flagged.T_world_cam.matrix());
 }
 
+// The frame after one whose grey values were out of step with its depth: right in itself, yet
+// its motion since that frame carries the frame's error, so it is DEGRADED too; the one after
+// is OK again, and no pose changes with the rule.
+TEST(Odometry, TheFrameAfterOneOutOfStepIsDegradedWithThePoseUnchanged) {
+  const synth::SyntheticSequence seq(officeConfig(1));
+  const Eigen::Isometry3d T0 = seq.groundTruth(0);
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.2, 1, 0.1).normalized();
+  auto frameTurned = [&](double deg, int k) {
+    Eigen::Isometry3d T = T0;
+    T.linear() = T0.linear() * Eigen::AngleAxisd(deg * M_PI / 180, axis).toRotationMatrix();
+    return seq.renderAt(T, 0.033 * k, k).frame;
+  };
+  RgbdFrame out_of_step = frameTurned(2.0, 1);
+  out_of_step.gray = frameTurned(3.2, 1).gray;
+  const std::vector<RgbdFrame> frames = {frameTurned(0, 0), out_of_step, frameTurned(4.0, 2),
+                                         frameTurned(6.0, 3)};
+  auto run = [&](float max_gap_rad) {
+    OdometryConfig config;
+    config.verify_max_grey_depth_gap_rad = max_gap_rad;
+    Odometry odometry(seq.config().camera, config);
+    std::vector<PoseEstimate> out;
+    for (const RgbdFrame& f : frames) out.push_back(odometry.track(f));
+    return out;
+  };
+  const std::vector<PoseEstimate> with_rule = run(OdometryConfig{}.verify_max_grey_depth_gap_rad);
+  const std::vector<PoseEstimate> without = run(0.f);
+  ASSERT_EQ(with_rule[1].state, TrackingState::kDegraded) << "the frame out of step itself";
+  ASSERT_EQ(without[2].state, TrackingState::kOk) << without[2].reason;
+  EXPECT_EQ(with_rule[2].state, TrackingState::kDegraded);
+  EXPECT_STREQ(with_rule[2].reason,
+               "the last frame's depth and grey values disagreed on the rotation: the motion "
+               "since it is not verified");
+  EXPECT_EQ(with_rule[3].state, TrackingState::kOk) << with_rule[3].reason;
+  for (size_t k = 0; k < frames.size(); ++k)
+    EXPECT_EQ(with_rule[k].T_world_cam.matrix(), without[k].T_world_cam.matrix()) << "frame " << k;
+}
+
 // A second frame with 5 mm of depth noise: its spread is well inside what OK promises at the
 // default two sigmas; a rule of just more sigmas than reach the first bound calls it DEGRADED,
 // just fewer OK; the pose is the same either way.

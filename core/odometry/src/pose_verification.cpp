@@ -34,6 +34,12 @@ PoseVerification summary(const AlignmentResult& a, const char* hypothesis, bool 
   return v;
 }
 
+// Depth and grey values measured turns too far apart for the frame's pose to be called right.
+bool outOfStep(const AlignmentResult& a, const OdometryConfig& c) {
+  return c.verify_max_grey_depth_gap_rad > 0 &&
+         a.grey_depth_gap_rad > c.verify_max_grey_depth_gap_rad;
+}
+
 }  // namespace
 
 void Odometry::renewReference(const FrameState& s, const Isometry3d& T_out,
@@ -119,6 +125,7 @@ void Odometry::reportLostWithoutDepth(const FrameState& s, const Isometry3d& T_m
   v.motion.update(out->T_world_cam, false, s.timestamp);
   v.prediction.unverified();
   v.recovering = true;
+  v.previous_out_of_step = false;
 }
 
 Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isometry3d& T_method,
@@ -220,13 +227,23 @@ void Odometry::applyLateStatusRules(const CheckedPose& c, bool weak_direction_un
   VerificationState& v = *verify_;
   // Last, so that it changes no pose: the pose stands as the best fit of both sensors, which
   // measured motions too far apart for it to be called right.
-  if (out->state == TrackingState::kOk && config_.verify_max_grey_depth_gap_rad > 0 &&
-      c.best.grey_depth_gap_rad > config_.verify_max_grey_depth_gap_rad) {
+  const bool out_of_step = outOfStep(c.best, config_);
+  if (out->state == TrackingState::kOk && out_of_step) {
     out->state = TrackingState::kDegraded;
     out->reason =
         "depth and grey values disagree on the rotation (colour and depth out of step, "
         "motion blur?)";
   }
+  // Likewise: the last frame's own sensors did not agree on its pose, so the motion since it,
+  // what a frame-to-frame error and a client's velocity read, carries that pose's error whatever
+  // this frame's check says (docs/accuracy.md, "The frame after one out of step").
+  if (out->state == TrackingState::kOk && v.previous_out_of_step) {
+    out->state = TrackingState::kDegraded;
+    out->reason =
+        "the last frame's depth and grey values disagreed on the rotation: the motion since it "
+        "is not verified";
+  }
+  v.previous_out_of_step = out_of_step;
   // Likewise: OK rested on a direction the check did not fix (confirmed by a small would-be step,
   // or the method's value), yet the grey values fit the pose moved a silent failure's distance
   // along it as well.

@@ -29,7 +29,10 @@ struct Odometry::VerificationState {
   int frames_since_reference = 0;
   int degraded_frames = 0;  // consecutive; LOST beyond max_degraded_frames
   bool recovering = false;  // a frame was LOST, and the prediction not yet reliable since
-  MotionModel motion;       // of the reported poses; measured: verified
+  // The last frame's depth and grey values disagreed on the rotation (the grey-depth gap rule):
+  // its pose is off by up to that gap, and so is the motion of the next frame since it.
+  bool previous_out_of_step = false;
+  MotionModel motion;  // of the reported poses; measured: verified
   PredictionRecord prediction;
   DepthAligner aligner;
   AlignmentTarget target;   // the current frame, shared by the hypotheses
