@@ -236,7 +236,8 @@ void Odometry::applyLateStatusRules(const CheckedPose& c, bool weak_direction_un
   }
   // Likewise: the last frame's own sensors did not agree on its pose, so the motion since it,
   // what a frame-to-frame error and a client's velocity read, carries that pose's error whatever
-  // this frame's check says (docs/accuracy.md, "The frame after one out of step").
+  // this frame's check says (docs/accuracy.md, "The real clip played backwards, and the frame
+  // after one out of step").
   if (out->state == TrackingState::kOk && v.previous_out_of_step) {
     out->state = TrackingState::kDegraded;
     out->reason =
