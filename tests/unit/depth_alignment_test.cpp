@@ -429,6 +429,59 @@ TEST_F(DepthAlignmentTest, ReportedSpreadMatchesTheEstimatesSpreadOverNoiseDraws
       low.measured_m, high.measured_m);
 }
 
+// Normals turned by a known Gaussian noise (sigma per tangent component) in both the reference's
+// sample and the current frame: the estimate is sigma^2 over the rendered normals' own mismatch.
+TEST_F(DepthAlignmentTest, NormalNoiseEstimateRecoversAPlantedNoise) {
+  const Isometry3d truth = motion(0.01, {0, 1, 0}, {0.01, 0, 0});
+  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  AlignmentParams p = alignmentParams(config_);
+  p.iterations = 0;  // judged at the true pose as it is
+  auto noiseAt = [&](double sigma) {
+    std::mt19937 rng(7);
+    std::normal_distribution<float> gauss(0.f, float(sigma));
+    auto turned = [&](const Eigen::Vector3f& n) {
+      const Eigen::Vector3f t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+      const float a = gauss(rng), b = gauss(rng);
+      Eigen::Vector3f m = n;
+      m += a * t1;
+      m += b * t2;
+      return m.normalized();
+    };
+    SurfaceSample ref = sample_;
+    for (auto& n : ref.normal) n = turned(n);
+    AlignmentTarget target;
+    buildAlignmentTarget(cur.map, cur.intensity, &target);
+    for (size_t j = 0; j < target.plane.size(); ++j) {
+      if (std::isnan(target.plane[j].w())) continue;
+      const Eigen::Vector3f n = turned(target.plane[j].head<3>());
+      target.plane[j] = Eigen::Vector4f(n.x(), n.y(), n.z(), n.dot(cur.map.points[j]));
+    }
+    return aligner_.align(ref, target, map_camera, truth, p);
+  };
+  const AlignmentResult clean = noiseAt(0.0);
+  ASSERT_GT(clean.inliers, 1000);
+  EXPECT_LT(clean.normal_noise_var, 1e-4) << "the rendered normals agree to well under a degree";
+  for (const double sigma_deg : {1.0, 2.0, 4.0}) {
+    const double sigma = sigma_deg * M_PI / 180.0;
+    const AlignmentResult noisy = noiseAt(sigma);
+    EXPECT_NEAR(noisy.normal_noise_var - clean.normal_noise_var, sigma * sigma, 0.1 * sigma * sigma)
+        << sigma_deg << " deg";
+  }
+}
+
+// The depth system's eigenvalues come ascending, and the directions depth fixed are those of them
+// that reach the bound.
+TEST_F(DepthAlignmentTest, DepthEigenvaluesAreReportedAscendingAndCountTheFixedDirections) {
+  const AlignmentResult a = alignTo(motion(0.02, {1, 1, 0}, {0.02, 0, 0.01}),
+                                    Isometry3d::Identity(), config_.align_iterations);
+  ASSERT_GT(a.steps, 0);
+  for (int k = 1; k < 6; ++k) EXPECT_LE(a.depth_eigenvalues[k - 1], a.depth_eigenvalues[k]);
+  EXPECT_GT(a.depth_eigenvalues[5], 0.0);
+  EXPECT_EQ(a.depth_constrained,
+            int((a.depth_eigenvalues.array() >= double(config_.align_min_eigenvalue)).count()));
+}
+
 TEST(AlignmentTargetTest, HoldsEachPixelsPlaneAndGreyValue) {
   NormalMap map;
   map.resize(5, 4);

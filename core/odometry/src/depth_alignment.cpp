@@ -188,7 +188,7 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
   }
   const float inverse_depth_scale = float(1.0 / depth_scale);
   int associated = 0, inliers = 0;
-  double sq = 0, sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+  double sq = 0, sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0, normal_sq = 0;
   const float gate = prm.max_distance_m;
   // The target's pixels are scattered over more than a core's L2 cache, and a point's row of
   // the normal equations is too long for the CPU to run far enough ahead to start the next
@@ -209,10 +209,12 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
     const Vector3f& p = warped_[i].point;
     const Vector3f n_cur = plane.head<3>();
     const float r = plane.w() - n_cur.dot(p);
-    if (std::abs(r) > gate || n_cur.dot(R * ref.normal[i]) < prm.normal_dot) continue;
+    const float normal_dot = n_cur.dot(R * ref.normal[i]);
+    if (std::abs(r) > gate || normal_dot < prm.normal_dot) continue;
     if (std::abs(r) <= prm.inlier_m + prm.inlier_per_m * p.z()) {
       ++inliers;
       sq += double(r) * r;
+      normal_sq += 2.0 - 2.0 * double(normal_dot);  // |n_cur - n_ref|^2 of unit normals
       const double a = ref.intensity[i], b = cur.grey[j];
       sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
     }
@@ -242,6 +244,7 @@ void DepthAligner::evaluate(const SurfaceSample& ref, const AlignmentTarget& cur
   res->associated = associated;
   res->inliers = inliers;
   res->rms_m = inliers ? std::sqrt(sq / inliers) : 0.0;
+  res->normal_noise_var = inliers ? normal_sq / (4.0 * inliers) : 0.0;
   res->ncc = 0;
   res->ref_intensity_std = 0;
   if (inliers > 1) {
@@ -262,11 +265,6 @@ namespace {
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Eigen6 = Eigen::SelfAdjointEigenSolver<Matrix6d>;
-
-// Directions (of 6) whose normalised eigenvalue reaches min_eigenvalue.
-int constrainedDirections(const Eigen6& eig, double min_eigenvalue) {
-  return int((eig.eigenvalues().array() >= min_eigenvalue).count());
-}
 
 // The Gauss-Newton step of one kind of residual alone, along the directions it fixes.
 Vector6d stepAlone(const Eigen6& eig, const Vector6d& b, double min_eigenvalue) {
@@ -397,8 +395,10 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
       res.sigma_translation_m = std::sqrt(cov.bottomRightCorner<3, 3>().trace());
     }
     // What depth alone fixes at this pose, whatever the grey values add.
+    res.depth_eigenvalues =
+        photometric ? Eigen6(H_depth, Eigen::EigenvaluesOnly).eigenvalues() : eig.eigenvalues();
     res.depth_constrained =
-        photometric ? constrainedDirections(Eigen6(H_depth), prm.min_eigenvalue) : res.constrained;
+        int((res.depth_eigenvalues.array() >= double(prm.min_eigenvalue)).count());
     // Here the rotation part is still in metres at the mean depth.
     const bool converged =
         xi.head<3>().norm() < prm.converged_m && xi.tail<3>().norm() < prm.converged_m;

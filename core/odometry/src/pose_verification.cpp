@@ -31,6 +31,8 @@ PoseVerification summary(const AlignmentResult& a, const char* hypothesis, bool 
   v.grey_depth_gap_m = a.grey_depth_gap_m;
   v.sigma_rotation_deg = a.sigma_rotation_rad * 180.0 / M_PI;
   v.sigma_translation_m = a.sigma_translation_m;
+  v.normal_noise_deg = std::sqrt(a.normal_noise_var) * 180.0 / M_PI;
+  v.depth_eigenvalues = a.depth_eigenvalues;
   return v;
 }
 

@@ -130,6 +130,13 @@ struct AlignmentResult {
   // blocks): rad and m. 0 before a step.
   double sigma_rotation_rad = 0;
   double sigma_translation_m = 0;
+  // Depth's own normalised Hessian at the last step: its eigenvalues, ascending.
+  Eigen::Matrix<double, 6, 1> depth_eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();
+  // The current normals' noise: the variance of one of a normal's two components across the
+  // surface, estimated as a quarter of the mean squared difference between the inliers' current
+  // normals and their warped reference normals (two draws of the same noise, two components
+  // each). A free direction of the geometry gets about this eigenvalue from the noise alone.
+  double normal_noise_var = 0;
   // Whether a direction left free is mostly a rotation, mostly a translation.
   bool free_rotation = false;
   bool free_translation = false;

@@ -53,6 +53,9 @@ struct PoseVerification {
   double grey_depth_gap_m = 0;     // AlignmentResult::grey_depth_gap_m
   double sigma_rotation_deg = 0;   // AlignmentResult::sigma_rotation_rad, in degrees
   double sigma_translation_m = 0;  // AlignmentResult::sigma_translation_m
+  double normal_noise_deg = 0;     // root of AlignmentResult::normal_noise_var, in degrees
+  Eigen::Matrix<double, 6, 1> depth_eigenvalues =
+      Eigen::Matrix<double, 6, 1>::Zero();  // AlignmentResult::depth_eigenvalues
   // OK although a direction was left free: its value is the motion prediction's, which matched
   // the recent verified frames (OdometryConfig::prediction_trust_frames).
   bool predicted_directions = false;
