@@ -10,6 +10,7 @@
 #include "nidevo/odometry/odometry_config.hpp"
 #include "nidevo/odometry/pose_check.hpp"
 #include "nidevo/sim/sequence.hpp"
+#include "painted_wall.hpp"
 
 namespace nidevo {
 namespace {
@@ -17,6 +18,7 @@ namespace {
 using Eigen::Isometry3d;
 using test::MapFrame;
 using test::mapOf;
+using test::paintedWall;
 
 Isometry3d motion(double angle, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
   Isometry3d T = Isometry3d::Identity();
@@ -167,21 +169,12 @@ TEST_F(DepthAlignmentTest, APlantedTranslationIsSeenByTheGreyValuesAndUndone) {
   }
 }
 
-// A wall 2 m ahead, square to the optical axis, tiled with a period of `period` metres in x and
-// y, seen from a camera at `t` (no rotation): every pixel's grey value is that of the wall point
-// its ray meets.
+// Tiled with a period of `period` metres in x and y.
 RgbdFrame tiledWall(const Camera& cam, const RgbdFrame& like, const Eigen::Vector3d& t,
                     double period) {
-  RgbdFrame f = like;
-  std::fill(f.depth.data.begin(), f.depth.data.end(), 2.f);
-  for (int v = 0; v < cam.height; ++v) {
-    for (int u = 0; u < cam.width; ++u) {
-      const double x = (u - cam.cx) / cam.fx * 2 + t.x(), y = (v - cam.cy) / cam.fy * 2 + t.y();
-      f.gray.at(u, v) = uint8_t(128 + 50 * std::cos(2 * M_PI * x / period) +
-                                40 * std::cos(2 * M_PI * y / period));
-    }
-  }
-  return f;
+  return paintedWall(cam, like, t, [period](double x, double y) {
+    return 128 + 50 * std::cos(2 * M_PI * x / period) + 40 * std::cos(2 * M_PI * y / period);
+  });
 }
 
 TEST_F(DepthAlignmentTest, APlantedOnePeriodTranslationErrorIsNotCalledOk) {
@@ -480,6 +473,40 @@ TEST_F(DepthAlignmentTest, DepthEigenvaluesAreReportedAscendingAndCountTheFixedD
   EXPECT_GT(a.depth_eigenvalues[5], 0.0);
   EXPECT_EQ(a.depth_constrained,
             int((a.depth_eigenvalues.array() >= double(config_.align_min_eigenvalue)).count()));
+}
+
+// A wall fixes depth, tilt and pan; bold stripes across y fix y and the roll; fine faint ones
+// across x fix x least. Where their period is the 5 cm the check moves the pose by, the grey
+// values fit the pose moved along x as well as the true one: untold. At 8 cm they tell it.
+TEST_F(DepthAlignmentTest, GreyValuesRepeatingEveryShiftLeaveTheDirectionTheyFixLeastUntold) {
+  const RgbdFrame like = seq_->renderFrame(0);
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  const Eigen::Vector3d t(0.01, 0.005, 0);
+  const Isometry3d truth = motion(0, {0, 1, 0}, t);
+  const AlignmentParams p = alignmentParams(config_);
+  ASSERT_EQ(p.confirm_shift_m, 0.05f);
+  auto untoldWithPeriod = [&](double x_period, Eigen::Matrix<double, 6, 1>* axis) {
+    const auto paint = [x_period](double x, double y) {
+      return 128 + 60 * std::cos(2 * M_PI * y / 0.1) + 10 * std::cos(2 * M_PI * x / x_period);
+    };
+    const MapFrame ref =
+        mapOf(paintedWall(camera_, like, Eigen::Vector3d::Zero(), paint), camera_, config_);
+    const MapFrame cur = mapOf(paintedWall(camera_, like, t, paint), camera_, config_);
+    SurfaceSample sample;
+    sampleSurface(ref.map, ref.intensity, config_.verify_sample_step, &sample);
+    AlignmentTarget target;
+    buildAlignmentTarget(cur.map, cur.intensity, &target);
+    const AlignmentResult a = aligner_.align(sample, target, map_camera, truth, p);
+    EXPECT_EQ(a.depth_constrained, 3) << "the wall fixes depth, tilt and pan";
+    EXPECT_EQ(a.constrained, 6) << "the grey values fix the rest";
+    EXPECT_LT((truth.inverse() * a.T_ref_cur).translation().norm(), 0.002);
+    return aligner_.greyFixedDirectionUntold(sample, target, map_camera, a, p, axis);
+  };
+  Eigen::Matrix<double, 6, 1> axis;
+  EXPECT_TRUE(untoldWithPeriod(0.05, &axis));
+  EXPECT_GT(std::abs(axis[3]), 0.9) << "along x: " << axis.transpose();
+  EXPECT_FALSE(untoldWithPeriod(0.08, &axis));
+  EXPECT_GT(std::abs(axis[3]), 0.9) << "along x: " << axis.transpose();
 }
 
 TEST(AlignmentTargetTest, HoldsEachPixelsPlaneAndGreyValue) {

@@ -8,6 +8,7 @@
 #include "nidevo/io/camera_io.hpp"
 #include "nidevo/odometry/motion_model.hpp"
 #include "nidevo/sim/sequence.hpp"
+#include "painted_wall.hpp"
 
 namespace nidevo {
 namespace {
@@ -257,6 +258,38 @@ TEST(Odometry, APoseWhoseSpreadIsWiderThanOkAllowsIsDegradedWithThePoseUnchanged
   EXPECT_EQ(flagged.state, TrackingState::kDegraded);
   EXPECT_STREQ(flagged.reason, "the pose's spread from the sensor noise is wider than OK allows");
   EXPECT_EQ(flagged.T_world_cam.matrix(), sure.T_world_cam.matrix());
+}
+
+// A wall with bold stripes across y and faint ones across x every 5 cm: depth fixes three
+// directions, the grey values the other three, yet along x they fit the pose moved by a period
+// as well. The rule calls the frame DEGRADED and leaves every pose as it was; with stripes every
+// 8 cm the grey values tell x, and the frame is OK.
+TEST(Odometry, ADirectionTheGreyValuesFixButCannotTellIsDegradedWithThePoseUnchanged) {
+  const synth::SyntheticSequence seq(officeConfig(2));
+  const Camera cam = seq.config().camera;
+  auto run = [&](double x_period, bool rule) {
+    const auto paint = [x_period](double x, double y) {
+      return 128 + 60 * std::cos(2 * M_PI * y / 0.1) + 10 * std::cos(2 * M_PI * x / x_period);
+    };
+    OdometryConfig config;
+    config.verify_grey_fixed_told = rule;
+    Odometry odometry(cam, config);
+    odometry.track(test::paintedWall(cam, seq.renderFrame(0), Eigen::Vector3d::Zero(), paint));
+    return odometry.track(
+        test::paintedWall(cam, seq.renderFrame(1), Eigen::Vector3d(0.01, 0.005, 0), paint));
+  };
+  const PoseEstimate without = run(0.05, false);
+  ASSERT_EQ(without.state, TrackingState::kOk) << without.reason;
+  ASSERT_EQ(without.verification.depth_constrained_directions, 3);
+  ASSERT_EQ(without.verification.constrained_directions, 6);
+  const PoseEstimate with_rule = run(0.05, true);
+  EXPECT_EQ(with_rule.state, TrackingState::kDegraded);
+  EXPECT_STREQ(with_rule.reason,
+               "a direction only the grey values fixed: they fit the pose moved along it "
+               "(align_confirm_shift_m) as well");
+  EXPECT_EQ(with_rule.T_world_cam.matrix(), without.T_world_cam.matrix());
+  const PoseEstimate told = run(0.08, true);
+  EXPECT_EQ(told.state, TrackingState::kOk) << told.reason;
 }
 
 TEST(Odometry, NoValidDepthIsLostButFiniteAndRecovers) {

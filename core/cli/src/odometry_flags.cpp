@@ -91,6 +91,10 @@ ABSL_FLAG(double, align_confirm_shift, shortestDecimal(kDefaults.align_confirm_s
           "An OK frame resting on a weak direction's value (confirmed, or the method's) along "
           "which the grey values agree no worse with the pose moved this far either way is "
           "DEGRADED (m; 0: never)");
+ABSL_FLAG(bool, verify_grey_fixed_told, kDefaults.verify_grey_fixed_told,
+          "An OK frame where grey values fixed what depth left weak is DEGRADED when they fit the "
+          "pose moved --align_confirm_shift along the direction they fix least as well (off by "
+          "default: docs/accuracy.md)");
 ABSL_FLAG(double, verify_max_spread_sigmas, shortestDecimal(kDefaults.verify_max_spread_sigmas),
           "An OK frame whose spread times this exceeds the accuracy asked of OK frames "
           "(--prediction_trust_*) is DEGRADED (0: never)");
@@ -173,6 +177,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.align_confirm_step_m = float(absl::GetFlag(FLAGS_align_confirm_step));
   c.align_confirm_shift_m = float(absl::GetFlag(FLAGS_align_confirm_shift));
   c.verify_max_spread_sigmas = float(absl::GetFlag(FLAGS_verify_max_spread_sigmas));
+  c.verify_grey_fixed_told = absl::GetFlag(FLAGS_verify_grey_fixed_told);
   c.verify_sample_step = absl::GetFlag(FLAGS_verify_sample_step);
   c.verify_min_inliers = float(absl::GetFlag(FLAGS_verify_min_inliers));
   c.verify_max_rms_m = float(absl::GetFlag(FLAGS_verify_max_rms));

@@ -332,7 +332,8 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
                                const Camera& map_camera, const AlignmentParams& prm,
                                double depth_scale, bool photometric, int iterations,
                                Isometry3d* T_cur_ref_io, Eigen::Matrix<double, 6, 1>* weak_moved,
-                               AlignmentResult* result) {
+                               AlignmentResult* result,
+                               const Eigen::Matrix<double, 6, 1>* held_axis) {
   Isometry3d& T_cur_ref = *T_cur_ref_io;
   AlignmentResult& res = *result;
   for (int it = 0; it < iterations; ++it) {
@@ -349,6 +350,8 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
       H += grey_.H / system_points;
       b += grey_.b / system_points;
     }
+    // A stiffness far over any eigenvalue of the normalised system: no step along the axis.
+    if (held_axis) H += 1e4 * (*held_axis) * held_axis->transpose();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H);
     Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
     res.constrained = 0;
@@ -513,6 +516,55 @@ DepthAligner::Untold DepthAligner::untoldWeakDirections(const SurfaceSample& ref
     untold.confirmed += result.weak_confirmed[k];
   }
   return untold;
+}
+
+bool DepthAligner::greyFixedDirectionUntold(const SurfaceSample& ref, const AlignmentTarget& cur,
+                                            const Camera& map_camera, const AlignmentResult& result,
+                                            const AlignmentParams& prm, Vector6d* axis) {
+  if (prm.photometric_weight <= 0 || result.constrained <= result.depth_constrained) return false;
+  const Isometry3d T_cur_ref = result.T_ref_cur.inverse();
+  const double depth_scale = meanDepth(ref);
+  AlignmentResult at;
+  evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, Rows::kNone, &at);
+  evaluate(ref, cur, map_camera, T_cur_ref, prm, depth_scale, Rows::kDepthAndGrey, &at);
+  const double n = double(depth_rows_.size());
+  if (n < 12) return false;
+  const Eigen6 depth(depth_.H / n);
+  // Depth's weak directions are the first columns (eigenvalues ascend). Both systems seen in
+  // depth's eigenvectors, every direction beyond the weak ones held out by a stiffness over any
+  // eigenvalue of the weak block (at most its trace): fixed sizes, so no allocation.
+  int weak = 0;
+  while (weak < 6 && depth.eigenvalues()(weak) < prm.min_eigenvalue) ++weak;
+  if (weak == 0) return false;
+  Matrix6d in_weak =
+      depth.eigenvectors().transpose() * ((depth_.H + grey_.H) / n) * depth.eigenvectors();
+  const double stiffness = 2.0 * in_weak.topLeftCorner(weak, weak).trace() + 1.0;
+  for (int k = weak; k < 6; ++k) {
+    in_weak.row(k).setZero();
+    in_weak.col(k).setZero();
+    in_weak(k, k) = stiffness;
+  }
+  // Of depth's weak directions, the one both together fix least, yet fix (the weaker ones are
+  // left free anyway: untoldWeakDirections is their check).
+  const Eigen6 both(in_weak);
+  int least = 0;
+  while (least < weak && both.eigenvalues()(least) < prm.min_eigenvalue) ++least;
+  if (least == weak) return false;
+  *axis = (depth.eigenvectors() * both.eigenvectors().col(least)).normalized();
+  const double gain = gain_, bias = bias_;
+  bool worse_both_ways = true;
+  for (const double sign : {-1.0, 1.0}) {
+    Vector6d xi = sign * prm.confirm_shift_m * *axis;
+    xi.head<3>() /= depth_scale;
+    Isometry3d T = increment(xi) * T_cur_ref;
+    gain_ = gain, bias_ = bias;
+    AlignmentResult moved;
+    gaussNewton(ref, cur, map_camera, prm, depth_scale, true, prm.polish_iterations, &T, nullptr,
+                &moved, axis);
+    evaluate(ref, cur, map_camera, T, prm, depth_scale, Rows::kNone, &moved);
+    worse_both_ways = worse_both_ways && moved.ncc < result.ncc;
+  }
+  return !worse_both_ways;
 }
 
 AlignmentResult DepthAligner::refineAlongWeakDirections(const SurfaceSample& ref,

@@ -88,8 +88,11 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     out->state = TrackingState::kDegraded;
     out->reason = status.reason;
   }
-  const bool untold =
+  LateEvidence late;
+  late.weak_direction_untold =
       status.ok && !status.predicted_directions && weakDirectionUntold(checked, evidence);
+  late.grey_fixed_untold = status.ok && !status.predicted_directions &&
+                           !late.weak_direction_untold && greyFixedUntold(checked, evidence);
   if (out->state == TrackingState::kDegraded && ++v.degraded_frames > config_.max_degraded_frames)
     out->state = TrackingState::kLost;
   if (out->state == TrackingState::kOk) v.degraded_frames = 0;
@@ -97,7 +100,7 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
   // A settled tie is refined as it would be unsettled, so that the status rule changes no pose.
   if (out->state != TrackingState::kOk || status.tie_settled) refineUnverified(checked, out);
   updateMotion(s, checked, T_method, out);
-  applyLateStatusRules(checked, untold, out);
+  applyLateStatusRules(checked, late, out);
 }
 
 bool Odometry::weakDirectionUntold(const CheckedPose& c, const StatusEvidence& evidence) {
@@ -111,6 +114,24 @@ bool Odometry::weakDirectionUntold(const CheckedPose& c, const StatusEvidence& e
   // method's own value vouching: along an untold direction it is all there is.
   AlignmentResult told = c.best;
   told.confirmed -= untold.confirmed;
+  StatusEvidence without = evidence;
+  without.best = &told;
+  without.origin.from_method = false;
+  return !decideStatus(without, config_).ok;
+}
+
+bool Odometry::greyFixedUntold(const CheckedPose& c, const StatusEvidence& evidence) {
+  VerificationState& v = *verify_;
+  if (!config_.verify_grey_fixed_told || config_.align_confirm_shift_m <= 0) return false;
+  Eigen::Matrix<double, 6, 1> axis;
+  if (!v.aligner.greyFixedDirectionUntold(v.reference, v.target, v.map_camera, c.best, v.params,
+                                          &axis))
+    return false;
+  // The status again with that direction free, and the method's value not vouching for it: along
+  // an untold direction it is all there is.
+  AlignmentResult told = c.best;
+  --told.constrained;
+  (axis.head<3>().squaredNorm() > 0.5 ? told.free_rotation : told.free_translation) = true;
   StatusEvidence without = evidence;
   without.best = &told;
   without.origin.from_method = false;
@@ -224,7 +245,7 @@ void Odometry::updateMotion(const FrameState& s, const CheckedPose& c, const Iso
   }
 }
 
-void Odometry::applyLateStatusRules(const CheckedPose& c, bool weak_direction_untold,
+void Odometry::applyLateStatusRules(const CheckedPose& c, const LateEvidence& late,
                                     PoseEstimate* out) {
   VerificationState& v = *verify_;
   // Last, so that it changes no pose: the pose stands as the best fit of both sensors, which
@@ -250,10 +271,18 @@ void Odometry::applyLateStatusRules(const CheckedPose& c, bool weak_direction_un
   // Likewise: OK rested on a direction the check did not fix (confirmed by a small would-be step,
   // or the method's value), yet the grey values fit the pose moved a silent failure's distance
   // along it as well.
-  if (out->state == TrackingState::kOk && weak_direction_untold) {
+  if (out->state == TrackingState::kOk && late.weak_direction_untold) {
     out->state = TrackingState::kDegraded;
     out->reason =
         "a direction the check did not fix: the grey values fit the pose moved along it "
+        "(align_confirm_shift_m) as well";
+  }
+  // Likewise: a direction only the grey values fixed, that they cannot tell from the pose moved
+  // along it with the rest fitted again (stripes along themselves).
+  if (out->state == TrackingState::kOk && late.grey_fixed_untold) {
+    out->state = TrackingState::kDegraded;
+    out->reason =
+        "a direction only the grey values fixed: they fit the pose moved along it "
         "(align_confirm_shift_m) as well";
   }
   // Likewise: the check's own spread, from the sensor noise alone, reaches beyond what OK promises.

@@ -186,6 +186,14 @@ class DepthAligner {
   Untold untoldWeakDirections(const SurfaceSample& ref, const AlignmentTarget& cur,
                               const Camera& map_camera, const AlignmentResult& result,
                               const AlignmentParams& params);
+  // Whether the direction that the grey values fix where depth leaves it weak, fixed least, is
+  // one they cannot tell: with the pose moved params.confirm_shift_m either way along
+  // it and the other directions fitted again from there, the grey values agree no worse (NCC).
+  // Stripes fix little along themselves, yet enough for an eigenvalue bound; refitting the rest
+  // takes out what a shift mixes in (a turn about the optical axis) and changes the stripes.
+  bool greyFixedDirectionUntold(const SurfaceSample& ref, const AlignmentTarget& cur,
+                                const Camera& map_camera, const AlignmentResult& result,
+                                const AlignmentParams& params, Eigen::Matrix<double, 6, 1>* axis);
   // Room for samples of up to `points` points, so that steady state never allocates.
   void reserve(size_t points);
 
@@ -208,7 +216,8 @@ class DepthAligner {
   void gaussNewton(const SurfaceSample& ref, const AlignmentTarget& cur, const Camera& map_camera,
                    const AlignmentParams& params, double depth_scale, bool photometric,
                    int iterations, Eigen::Isometry3d* T_cur_ref,
-                   Eigen::Matrix<double, 6, 1>* weak_moved, AlignmentResult* result);
+                   Eigen::Matrix<double, 6, 1>* weak_moved, AlignmentResult* result,
+                   const Eigen::Matrix<double, 6, 1>* held_axis = nullptr);
   // J^T W J and J^T W r, of one kind of residual.
   struct NormalEquations {
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();

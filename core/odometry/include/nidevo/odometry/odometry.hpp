@@ -160,8 +160,16 @@ class Odometry {
   // method's) that the grey values cannot tell from the pose moved along it
   // (DepthAligner::untoldWeakDirections).
   bool weakDirectionUntold(const CheckedPose& checked, const StatusEvidence& evidence);
-  // Status rules applied after the motion model took the pose, so that they move no pose.
-  void applyLateStatusRules(const CheckedPose& checked, bool weak_direction_untold,
+  // Whether the status was OK only thanks to a direction that the grey values alone fix and
+  // cannot tell (DepthAligner::greyFixedDirectionUntold).
+  bool greyFixedUntold(const CheckedPose& checked, const StatusEvidence& evidence);
+  // What the status rules applied after the motion model took the pose (so that they move no
+  // pose) need beyond the check itself.
+  struct LateEvidence {
+    bool weak_direction_untold = false;
+    bool grey_fixed_untold = false;
+  };
+  void applyLateStatusRules(const CheckedPose& checked, const LateEvidence& late,
                             PoseEstimate* out);
   void renewReference(const FrameState& state, const Eigen::Isometry3d& T_out,
                       const Eigen::Isometry3d& T_method);

@@ -136,6 +136,13 @@ struct OdometryConfig {
   // unchanged: the sensor noise alone leaves it less sure than OK says. 2: about 95 % of a
   // Gaussian spread; 0: never (docs/accuracy.md "The pose's spread").
   float verify_max_spread_sigmas = 2.0f;
+  // On: an OK frame where grey values fixed what depth left weak is decided again with the
+  // direction they fix least left free when, with the pose moved align_confirm_shift_m either
+  // way along it and the other directions fitted again, they agree no worse (NCC); not OK then:
+  // DEGRADED, its pose unchanged. Off by default: on never-seen seeds 140-159 it caught none of
+  // 8 silent failures and took 2 points off the OK share (docs/accuracy.md "Directions only the
+  // grey values fix, and the normals' noise").
+  bool verify_grey_fixed_told = false;
   // Motion prior: a verified pose this far (together) from the prediction has the prediction
   // tried too; fits within hypothesis_tie (relative) are a tie, won by the pose nearer it.
   float prior_translation_m = 0.05f;
