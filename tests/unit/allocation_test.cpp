@@ -41,56 +41,58 @@ TEST(Allocation, SteadyStateTrackingAllocatesNothing) {
   EXPECT_GT(keyframes, 0);  // the keyframe paths were exercised too
 }
 
+// The alignment's inputs from frames 0 and `last` of a rendered sequence at 320x240, with an
+// aligner reserved for them.
+struct AlignmentPair {
+  explicit AlignmentPair(int last) : seq(sequenceConfig(last + 1)) {
+    const test::MapFrame ref = test::mapOf(seq.renderFrame(0), camera(), config);
+    const test::MapFrame cur = test::mapOf(seq.renderFrame(last), camera(), config);
+    sampleSurface(ref.map, ref.intensity, config.verify_sample_step, &sample);
+    buildAlignmentTarget(cur.map, cur.intensity, &target);
+    aligner.reserve(sample.size());
+  }
+  static synth::SequenceConfig sequenceConfig(int frames) {
+    synth::SequenceConfig c;
+    c.frames = frames;
+    c.camera = cameraPreset("icl")->subsampled(2);
+    return c;
+  }
+  const Camera& camera() const { return seq.config().camera; }
+  Camera mapCamera() const { return camera().subsampled(config.normal_stride); }
+  const synth::SyntheticSequence seq;
+  const OdometryConfig config;
+  SurfaceSample sample;
+  AlignmentTarget target;
+  DepthAligner aligner;
+};
+
 // The pose check's coarse-to-fine hypothesis, run only when every other one failed, so rarely
 // that the tracking loop above may never reach it: its pyramid and alignments on their own.
 TEST(Allocation, CoarseToFineAlignmentAllocatesNothingOnceReserved) {
-  synth::SequenceConfig c;
-  c.frames = 10;
-  c.camera = cameraPreset("icl")->subsampled(2);
-  const synth::SyntheticSequence seq(c);
-  const OdometryConfig config;
-  const test::MapFrame ref = test::mapOf(seq.renderFrame(0), c.camera, config);
-  const test::MapFrame cur = test::mapOf(seq.renderFrame(9), c.camera, config);
-  const Camera map_camera = c.camera.subsampled(config.normal_stride);
-  SurfaceSample sample;
-  sampleSurface(ref.map, ref.intensity, config.verify_sample_step, &sample);
-  AlignmentTarget target;
-  buildAlignmentTarget(cur.map, cur.intensity, &target);
+  AlignmentPair pair(9);
+  const Camera map_camera = pair.mapCamera();
   AlignmentPyramid pyramid;
-  pyramid.reserve(config.align_coarse_levels, map_camera);
-  DepthAligner aligner;
-  aligner.reserve(sample.size());
-  const AlignmentParams params = alignmentParams(config);
+  pyramid.reserve(pair.config.align_coarse_levels, map_camera);
+  const AlignmentParams params = alignmentParams(pair.config);
   allocations = 0;
   counting = true;
-  pyramid.build(target);
-  const AlignmentResult a = aligner.alignCoarseToFine(sample, target, map_camera, pyramid,
-                                                      Eigen::Isometry3d::Identity(), params);
+  pyramid.build(pair.target);
+  const AlignmentResult a = pair.aligner.alignCoarseToFine(
+      pair.sample, pair.target, pair.mapCamera(), pyramid, Eigen::Isometry3d::Identity(), params);
   counting = false;
   EXPECT_EQ(allocations.load(), 0);
   EXPECT_GT(a.steps, 0);  // it aligned
 }
 
 // The check of the direction the grey values fix least where depth leaves it weak, with the pose
-// moved either way and fitted again: on the real clip it runs on most frames.
+// moved either way and fitted again (--verify_grey_fixed_told).
 TEST(Allocation, GreyFixedDirectionCheckAllocatesNothing) {
-  synth::SequenceConfig c;
-  c.frames = 3;
-  c.camera = cameraPreset("icl")->subsampled(2);
-  const synth::SyntheticSequence seq(c);
-  const OdometryConfig config;
-  const test::MapFrame ref = test::mapOf(seq.renderFrame(0), c.camera, config);
-  const test::MapFrame cur = test::mapOf(seq.renderFrame(2), c.camera, config);
-  const Camera map_camera = c.camera.subsampled(config.normal_stride);
-  SurfaceSample sample;
-  sampleSurface(ref.map, ref.intensity, config.verify_sample_step, &sample);
-  AlignmentTarget target;
-  buildAlignmentTarget(cur.map, cur.intensity, &target);
-  DepthAligner aligner;
-  aligner.reserve(sample.size());
-  AlignmentParams params = alignmentParams(config);
-  AlignmentResult a = aligner.align(sample, target, map_camera,
-                                    seq.groundTruth(0).inverse() * seq.groundTruth(2), params);
+  AlignmentPair pair(2);
+  const Camera map_camera = pair.mapCamera();
+  AlignmentParams params = alignmentParams(pair.config);
+  AlignmentResult a =
+      pair.aligner.align(pair.sample, pair.target, map_camera,
+                         pair.seq.groundTruth(0).inverse() * pair.seq.groundTruth(2), params);
   // Depth's weakest direction declared weak, and the grey values counted as fixing it.
   params.min_eigenvalue = float(a.depth_eigenvalues[0] * 1.01);
   a.depth_constrained = 5;
@@ -98,7 +100,7 @@ TEST(Allocation, GreyFixedDirectionCheckAllocatesNothing) {
   Eigen::Matrix<double, 6, 1> axis = Eigen::Matrix<double, 6, 1>::Zero();
   allocations = 0;
   counting = true;
-  aligner.greyFixedDirectionUntold(sample, target, map_camera, a, params, &axis);
+  pair.aligner.greyFixedDirectionUntold(pair.sample, pair.target, map_camera, a, params, &axis);
   counting = false;
   EXPECT_EQ(allocations.load(), 0);
   EXPECT_NEAR(axis.norm(), 1.0, 1e-9);  // it chose a direction and moved the pose along it
