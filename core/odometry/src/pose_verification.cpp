@@ -42,6 +42,14 @@ bool outOfStep(const AlignmentResult& a, const OdometryConfig& c) {
          a.grey_depth_gap_rad > c.verify_max_grey_depth_gap_rad;
 }
 
+// The status again with `told` as the check's result and without the method's own value vouching:
+// along a direction the data cannot tell, it is all there is.
+bool okWhereUntold(const AlignmentResult& told, StatusEvidence evidence, const OdometryConfig& c) {
+  evidence.best = &told;
+  evidence.origin.from_method = false;
+  return decideStatus(evidence, c).ok;
+}
+
 }  // namespace
 
 void Odometry::renewReference(const FrameState& s, const Isometry3d& T_out,
@@ -110,14 +118,10 @@ bool Odometry::weakDirectionUntold(const CheckedPose& c, const StatusEvidence& e
   const DepthAligner::Untold untold =
       v.aligner.untoldWeakDirections(v.reference, v.target, v.map_camera, c.best, v.params);
   if (untold.directions == 0) return false;
-  // The status again, without the confirmations the data cannot tell apart, and without the
-  // method's own value vouching: along an untold direction it is all there is.
+  // Without the confirmations the data cannot tell apart.
   AlignmentResult told = c.best;
   told.confirmed -= untold.confirmed;
-  StatusEvidence without = evidence;
-  without.best = &told;
-  without.origin.from_method = false;
-  return !decideStatus(without, config_).ok;
+  return !okWhereUntold(told, evidence, config_);
 }
 
 bool Odometry::greyFixedUntold(const CheckedPose& c, const StatusEvidence& evidence) {
@@ -127,15 +131,11 @@ bool Odometry::greyFixedUntold(const CheckedPose& c, const StatusEvidence& evide
   if (!v.aligner.greyFixedDirectionUntold(v.reference, v.target, v.map_camera, c.best, v.params,
                                           &axis))
     return false;
-  // The status again with that direction free, and the method's value not vouching for it: along
-  // an untold direction it is all there is.
+  // With that direction free.
   AlignmentResult told = c.best;
   --told.constrained;
   (axis.head<3>().squaredNorm() > 0.5 ? told.free_rotation : told.free_translation) = true;
-  StatusEvidence without = evidence;
-  without.best = &told;
-  without.origin.from_method = false;
-  return !decideStatus(without, config_).ok;
+  return !okWhereUntold(told, evidence, config_);
 }
 
 void Odometry::reportLostWithoutDepth(const FrameState& s, const Isometry3d& T_method,
