@@ -486,9 +486,7 @@ TEST_F(DepthAlignmentTest, GreyValuesRepeatingEveryShiftLeaveTheDirectionTheyFix
   const AlignmentParams p = alignmentParams(config_);
   ASSERT_EQ(p.confirm_shift_m, 0.05f);
   auto untoldWithPeriod = [&](double x_period, Eigen::Matrix<double, 6, 1>* axis) {
-    const auto paint = [x_period](double x, double y) {
-      return 128 + 60 * std::cos(2 * M_PI * y / 0.1) + 10 * std::cos(2 * M_PI * x / x_period);
-    };
+    const auto paint = test::boldAndFaintStripes(x_period);
     const MapFrame ref =
         mapOf(paintedWall(camera_, like, Eigen::Vector3d::Zero(), paint), camera_, config_);
     const MapFrame cur = mapOf(paintedWall(camera_, like, t, paint), camera_, config_);

@@ -268,9 +268,7 @@ TEST(Odometry, ADirectionTheGreyValuesFixButCannotTellIsDegradedWithThePoseUncha
   const synth::SyntheticSequence seq(officeConfig(2));
   const Camera cam = seq.config().camera;
   auto run = [&](double x_period, bool rule) {
-    const auto paint = [x_period](double x, double y) {
-      return 128 + 60 * std::cos(2 * M_PI * y / 0.1) + 10 * std::cos(2 * M_PI * x / x_period);
-    };
+    const auto paint = test::boldAndFaintStripes(x_period);
     OdometryConfig config;
     config.verify_grey_fixed_told = rule;
     Odometry odometry(cam, config);

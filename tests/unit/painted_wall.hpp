@@ -3,6 +3,7 @@
 // direction of motion the test knows to be fixed or free.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 
 #include "nidevo/odometry/camera.hpp"
 #include "nidevo/odometry/image.hpp"
@@ -24,6 +25,15 @@ RgbdFrame paintedWall(const Camera& cam, const RgbdFrame& like, const Eigen::Vec
     }
   }
   return f;
+}
+
+// Bold stripes across y every 10 cm and faint ones across x every `x_period` metres: a wall then
+// leaves depth three directions, bold ones for the grey values to fix and x for them to fix
+// least.
+inline auto boldAndFaintStripes(double x_period) {
+  return [x_period](double x, double y) {
+    return 128 + 60 * std::cos(2 * M_PI * y / 0.1) + 10 * std::cos(2 * M_PI * x / x_period);
+  };
 }
 
 }  // namespace nidevo::test
