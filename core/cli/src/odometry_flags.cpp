@@ -61,6 +61,9 @@ ABSL_FLAG(double, kcc_prior_ratio, shortestDecimal(kDefaults.kcc_prior_ratio),
 
 ABSL_FLAG(bool, prediction_settles_ties, kDefaults.prediction_settles_ties,
           "A periodic pattern's tie settled by a motion prediction right on recent frames is OK");
+ABSL_FLAG(bool, start_requires_measured_motion, kDefaults.start_requires_measured_motion,
+          "Until a frame measured the motion without the prediction, a pose resting on it is not "
+          "OK");
 ABSL_FLAG(int, recovery_min_depth_directions, kDefaults.recovery_min_depth_directions,
           "After a LOST frame, until the prediction is right again, OK needs depth to fix this "
           "many of the 6 directions (0: never)");
@@ -161,6 +164,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.psr_bound = float(absl::GetFlag(FLAGS_psr_bound));
   c.kcc_prior_ratio = float(absl::GetFlag(FLAGS_kcc_prior_ratio));
   c.prediction_settles_ties = absl::GetFlag(FLAGS_prediction_settles_ties);
+  c.start_requires_measured_motion = absl::GetFlag(FLAGS_start_requires_measured_motion);
   c.recovery_min_depth_directions = absl::GetFlag(FLAGS_recovery_min_depth_directions);
   c.kcc_ridge_cells = absl::GetFlag(FLAGS_kcc_ridge_cells);
   c.kcc_ridge_ratio = float(absl::GetFlag(FLAGS_kcc_ridge_ratio));

@@ -293,6 +293,17 @@ void Odometry::applyLateStatusRules(const CheckedPose& c, const LateEvidence& la
     out->state = TrackingState::kDegraded;
     out->reason = "the pose's spread from the sensor noise is wider than OK allows";
   }
+  // Likewise: at the start no motion has been measured yet, so "near the prediction" is near
+  // standing still, an assumption; a pose that rests on it along what depth leaves free is not
+  // verified (a sequence that starts fast over one plane).
+  const bool independent = c.origin.from_method || c.best.depth_constrained == 6;
+  if (out->state == TrackingState::kOk && !v.motion_measured && !independent &&
+      config_.start_requires_measured_motion) {
+    out->state = TrackingState::kDegraded;
+    out->reason =
+        "the start: no motion measured yet, and depth leaves a direction to the assumption that "
+        "the camera stands still";
+  }
   // Likewise last: back from LOST, the check's minimum was found from hypotheses the lost stretch
   // left far off, where a wrong minimum can fit both sensors; until the prediction has been right
   // again, only depth fixing every direction says the pose is right.
@@ -304,6 +315,7 @@ void Odometry::applyLateStatusRules(const CheckedPose& c, const LateEvidence& la
         "recovering from LOST: depth leaves a direction free and the motion prediction has not "
         "been right again yet";
   }
+  if (out->state == TrackingState::kOk && independent) v.motion_measured = true;
 }
 
 }  // namespace nidevo

@@ -32,6 +32,10 @@ struct Odometry::VerificationState {
   // The last frame's depth and grey values disagreed on the rotation (the grey-depth gap rule):
   // its pose is off by up to that gap, and so is the motion of the next frame since it.
   bool previous_out_of_step = false;
+  // An OK frame has measured the motion without the prediction's help (depth fixed every
+  // direction, or the method's own pose was kept): before that, the prediction is only the
+  // assumption that the camera stands still.
+  bool motion_measured = false;
   MotionModel motion;  // of the reported poses; measured: verified
   PredictionRecord prediction;
   DepthAligner aligner;

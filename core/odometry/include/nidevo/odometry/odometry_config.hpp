@@ -180,6 +180,11 @@ struct OdometryConfig {
   // may be a wrong one that depth and grey values agree on. The pose is unchanged (0: never;
   // docs/accuracy.md "Accuracy").
   int recovery_min_depth_directions = 6;
+  // Until an OK frame has measured the motion without the prediction (depth fixed all six
+  // directions, or the method's own pose was kept), a frame whose kept pose is the prediction's
+  // or the last pose's along a direction depth leaves free is DEGRADED, its pose unchanged: at
+  // the start the prediction is only "standing still" (docs/accuracy.md "The start").
+  bool start_requires_measured_motion = true;
 
   // Empty when valid, else a message naming the bad field.
   [[nodiscard]] std::string validate() const;
