@@ -183,7 +183,8 @@ struct OdometryConfig {
   // Until an OK frame has measured the motion without the prediction (depth fixed all six
   // directions, or the method's own pose was kept), a frame whose kept pose is the prediction's
   // or the last pose's along a direction depth leaves free is DEGRADED, its pose unchanged: at
-  // the start the prediction is only "standing still" (docs/accuracy.md "The start: no motion measured yet").
+  // the start the prediction is only "standing still" (docs/accuracy.md "The start: no motion
+  // measured yet").
   bool start_requires_measured_motion = true;
 
   // Empty when valid, else a message naming the bad field.
