@@ -106,5 +106,25 @@ TEST(Allocation, GreyFixedDirectionCheckAllocatesNothing) {
   EXPECT_NEAR(axis.norm(), 1.0, 1e-9);  // it chose a direction and moved the pose along it
 }
 
+// The one-plane turn from the grey values (one_plane_image_yaw): its histograms and smoothing
+// buffers keep their sizes once the estimator has seen a frame.
+TEST(Allocation, PlaneYawAllocatesNothingAfterTheFirstFrame) {
+  const AlignmentPair pair(3);
+  const test::MapFrame key = test::mapOf(pair.seq.renderFrame(0), pair.camera(), pair.config);
+  const test::MapFrame cur = test::mapOf(pair.seq.renderFrame(3), pair.camera(), pair.config);
+  const PlaneView key_view{&key.map, key.intensity.data(), Eigen::Vector3f::UnitZ(),
+                           Eigen::Matrix3f::Identity()};
+  const PlaneView cur_view{&cur.map, cur.intensity.data(), Eigen::Vector3f::UnitZ(),
+                           Eigen::Matrix3f::Identity()};
+  const PlaneYawParams params = planeYawParams(pair.config);
+  PlaneYawEstimator estimator;
+  estimator.estimate(key_view, cur_view, pair.mapCamera(), params);
+  allocations = 0;
+  counting = true;
+  for (int k = 0; k < 10; ++k) estimator.estimate(key_view, cur_view, pair.mapCamera(), params);
+  counting = false;
+  EXPECT_EQ(allocations.load(), 0);
+}
+
 }  // namespace
 }  // namespace nidevo

@@ -53,6 +53,21 @@ ABSL_FLAG(int, rotation_keyframe_interval, kDefaults.rotation_keyframe_interval,
           "Renew the rotation keyframe at least every this many frames");
 ABSL_FLAG(double, psr_bound, shortestDecimal(kDefaults.psr_bound),
           "Translation keyframe renewed at or below this PSR (paper: 50)");
+ABSL_FLAG(bool, one_plane_image_yaw, kDefaults.one_plane_image_yaw,
+          "With one plane, measure the turn about its normal from the grey gradients' directions "
+          "on it (false: the prediction's)");
+ABSL_FLAG(double, plane_yaw_min_ncc, shortestDecimal(kDefaults.plane_yaw_min_ncc),
+          "... accepted where the two frames' direction histograms correlate at least this well");
+ABSL_FLAG(int, plane_yaw_smooth_radius, kDefaults.plane_yaw_smooth_radius,
+          "... on grey values smoothed by a binomial of this radius (map pixels, 0..7)");
+ABSL_FLAG(double, plane_yaw_max_footprint, shortestDecimal(kDefaults.plane_yaw_max_footprint_m),
+          "... leaving out map pixels that see more of the plane than this (m)");
+ABSL_FLAG(double, plane_yaw_min_turn_deg,
+          shortestDecimal(float(kDefaults.plane_yaw_min_turn_rad * 180 / M_PI)),
+          "... and taken only when it turns at least this far from the prediction (degrees)");
+ABSL_FLAG(double, plane_yaw_max_turn_deg,
+          shortestDecimal(float(kDefaults.plane_yaw_max_turn_rad * 180 / M_PI)),
+          "... searched this far either way (degrees)");
 ABSL_FLAG(bool, predicted_association, kDefaults.predicted_association,
           "Plane association through the predicted rotation (false: the same pixel, as the paper)");
 ABSL_FLAG(double, kcc_prior_ratio, shortestDecimal(kDefaults.kcc_prior_ratio),
@@ -169,6 +184,12 @@ OdometryConfig odometryConfigFromFlags() {
   c.kcc_ridge_cells = absl::GetFlag(FLAGS_kcc_ridge_cells);
   c.kcc_ridge_ratio = float(absl::GetFlag(FLAGS_kcc_ridge_ratio));
   c.predicted_association = absl::GetFlag(FLAGS_predicted_association);
+  c.one_plane_image_yaw = absl::GetFlag(FLAGS_one_plane_image_yaw);
+  c.plane_yaw_min_ncc = float(absl::GetFlag(FLAGS_plane_yaw_min_ncc));
+  c.plane_yaw_smooth_radius = absl::GetFlag(FLAGS_plane_yaw_smooth_radius);
+  c.plane_yaw_max_footprint_m = float(absl::GetFlag(FLAGS_plane_yaw_max_footprint));
+  c.plane_yaw_max_turn_rad = float(absl::GetFlag(FLAGS_plane_yaw_max_turn_deg) * M_PI / 180);
+  c.plane_yaw_min_turn_rad = float(absl::GetFlag(FLAGS_plane_yaw_min_turn_deg) * M_PI / 180);
   c.align_iterations = absl::GetFlag(FLAGS_align_iterations);
   c.align_converged_m = float(absl::GetFlag(FLAGS_align_converged));
   c.align_min_eigenvalue = float(absl::GetFlag(FLAGS_align_min_eigenvalue));

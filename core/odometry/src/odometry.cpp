@@ -59,18 +59,22 @@ Isometry3d rotationOnly(const Matrix3d& R) {
 struct Odometry::RotationState {
   RotationState(const OdometryConfig& c, const Camera& camera, int map_pixels)
       : tracking(planeTrackingParams(c, map_pixels)),
+        yaw_params(planeYawParams(c)),
         normal_map_pixels(map_pixels),
         map_camera(camera.subsampled(c.normal_stride)) {}
   const PlaneTrackingParams tracking;
+  const PlaneYawParams yaw_params;
   const int normal_map_pixels;
   const Camera map_camera;
   bool has_keyframe = false;
   NormalMap key_normals;
+  std::vector<float> key_intensity;  // the keyframe's map_intensity, for the one-plane turn
   Matrix3d R_world_key = Matrix3d::Identity();
   int frames_since_key = 0;
   MotionModel motion;
   PlaneTracker tracker;
   PlaneTrackingResult tracked;
+  PlaneYawEstimator plane_yaw;
 };
 
 struct Odometry::TranslationState {
@@ -228,6 +232,7 @@ void Odometry::estimateRotation(FrameState* s) {
   s->planes_used = 0;
   s->overlap_pixels = 0;
   s->rotation_keyframe = false;
+  s->plane_yaw = PlaneYaw{};
 
   if (!s->depth_ok) {
     s->R_world_cam = R_pred;
@@ -277,6 +282,7 @@ void Odometry::matchRotationKeyframe(const Matrix3d& R_pred, FrameState* s) {
         minimalRotation(R_key_pred * p.cur.cast<double>(), p.key.cast<double>()) * R_key_pred;
     s->planes_used = 1;
     s->rotation_source = RotationSource::kOnePlane;
+    if (config_.one_plane_image_yaw) measureTurnAboutPlane(p, s, &R_key_cur);
   } else {
     R_key_cur = R_key_pred;
     s->rotation_source = RotationSource::kPrediction;
@@ -289,6 +295,20 @@ void Odometry::matchRotationKeyframe(const Matrix3d& R_pred, FrameState* s) {
       angle >= config_.rotation_keyframe_max_angle;
 }
 
+// The turn about the one plane's normal that the prediction left, from the grey values' gradient
+// directions on the plane (plane_yaw.hpp); R_key_cur keeps the plane's normal where it was.
+void Odometry::measureTurnAboutPlane(const PlanePair& plane, FrameState* s, Matrix3d* R_key_cur) {
+  RotationState& r = *rot_;
+  const PlaneView key{&r.key_normals, r.key_intensity.data(), plane.key,
+                      Eigen::Matrix3f::Identity()};
+  const PlaneView cur{&s->normals, s->map_intensity.data(), plane.cur, R_key_cur->cast<float>()};
+  s->plane_yaw = r.plane_yaw.estimate(key, cur, r.map_camera, r.yaw_params);
+  if (!s->plane_yaw.measured || std::abs(s->plane_yaw.turn_rad) < config_.plane_yaw_min_turn_rad)
+    return;
+  *R_key_cur =
+      Eigen::AngleAxisd(s->plane_yaw.turn_rad, plane.key.cast<double>().normalized()) * *R_key_cur;
+}
+
 void Odometry::makeRotationKeyframe(const FrameState& s) {
   RotationState& r = *rot_;
   r.has_keyframe = true;
@@ -298,6 +318,7 @@ void Odometry::makeRotationKeyframe(const FrameState& s) {
   r.key_normals.valid.assign(s.normals.valid.begin(), s.normals.valid.end());
   r.key_normals.points.assign(s.normals.points.begin(), s.normals.points.end());
   r.key_normals.smooth.assign(s.normals.smooth.begin(), s.normals.smooth.end());
+  r.key_intensity.assign(s.map_intensity.begin(), s.map_intensity.end());
   r.R_world_key = s.R_world_cam;
   r.frames_since_key = 0;
 }
@@ -449,7 +470,9 @@ const char* Odometry::matchTranslationKeyframe(const FrameState& s, const Isomet
 
 const char* Odometry::methodProblem(const FrameState& s, const char* translation_problem) const {
   if (!s.depth_ok) return translation_problem;
-  if (s.rotation_source == RotationSource::kOnePlane) return "one plane; rotation partly predicted";
+  if (s.rotation_source == RotationSource::kOnePlane)
+    return s.plane_yaw.measured ? "one plane; the turn about its normal from the grey values on it"
+                                : "one plane; rotation partly predicted";
   if (s.rotation_source == RotationSource::kPrediction)
     return "fewer than two non-parallel planes; rotation predicted";
   return translation_problem;

@@ -35,6 +35,16 @@ std::string OdometryConfig::validate() const {
   if (!in(plane_fit_cone_dot, 0, 1)) return "plane_fit_cone_dot must be in [0, 1]";
   if (!in(plane_max_residual, 1e-5, 1)) return "plane_max_residual must be in [1e-5, 1]";
   if (max_modes < 2 || max_modes > 64) return "max_modes must be in 2..64";
+  if (plane_yaw_bins < 16 || plane_yaw_bins > 1440) return "plane_yaw_bins must be in 16..1440";
+  if (plane_yaw_smooth_radius < 0 || plane_yaw_smooth_radius > 7)
+    return "plane_yaw_smooth_radius must be in 0..7";
+  if (!(plane_yaw_min_gradient >= 0)) return "plane_yaw_min_gradient must be at least 0";
+  if (!(plane_yaw_max_footprint_m > 0)) return "plane_yaw_max_footprint_m must be positive";
+  if (plane_yaw_min_pixels < 1) return "plane_yaw_min_pixels must be at least 1";
+  if (!in(plane_yaw_min_ncc, -1, 1)) return "plane_yaw_min_ncc must be in [-1, 1]";
+  if (!in(plane_yaw_max_turn_rad, 0, 1.5)) return "plane_yaw_max_turn_rad must be in [0, 1.5]";
+  if (!in(plane_yaw_min_turn_rad, 0, plane_yaw_max_turn_rad))
+    return "plane_yaw_min_turn_rad must be in [0, plane_yaw_max_turn_rad]";
   if (rotation_keyframe_interval < 1) return "rotation_keyframe_interval must be at least 1";
   if (!in(rotation_keyframe_min_overlap, 0, 1))
     return "rotation_keyframe_min_overlap must be in [0, 1]";
@@ -126,6 +136,19 @@ PlaneTrackingParams planeTrackingParams(const OdometryConfig& c, int normal_map_
   p.max_modes = c.max_modes;
   p.estimator = c.plane_normal;
   p.fit_cone_dot = c.plane_fit_cone_dot;
+  return p;
+}
+
+PlaneYawParams planeYawParams(const OdometryConfig& c) {
+  PlaneYawParams p;
+  p.bins = c.plane_yaw_bins;
+  p.pixel_step = c.plane_pixel_step;
+  p.smooth_radius = c.plane_yaw_smooth_radius;
+  p.min_gradient = c.plane_yaw_min_gradient;
+  p.max_footprint_m = c.plane_yaw_max_footprint_m;
+  p.min_pixels = c.plane_yaw_min_pixels;
+  p.min_ncc = c.plane_yaw_min_ncc;
+  p.max_turn_rad = c.plane_yaw_max_turn_rad;
   return p;
 }
 

@@ -16,6 +16,7 @@
 #include "nidevo/odometry/odometry_config.hpp"
 #include "nidevo/odometry/ortho_projection.hpp"
 #include "nidevo/odometry/plane_tracking.hpp"
+#include "nidevo/odometry/plane_yaw.hpp"
 
 namespace nidevo {
 
@@ -99,6 +100,7 @@ struct FrameState {
   int planes_used = 0;
   int overlap_pixels = 0;
   bool rotation_keyframe = false;
+  PlaneYaw plane_yaw;  // one plane: the turn about its normal from the grey values
   StageTimes times;
 };
 
@@ -131,6 +133,7 @@ class Odometry {
   struct VerificationState;
   void matchRotationKeyframe(const Eigen::Matrix3d& R_pred, FrameState* state);
   void makeRotationKeyframe(const FrameState& state);
+  void measureTurnAboutPlane(const PlanePair& plane, FrameState* state, Eigen::Matrix3d* R_key_cur);
   void makeTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_world_cam);
   // Returns why the translation was predicted instead, or nullptr; sets *T_world_cam.
   const char* matchTranslationKeyframe(const FrameState& state, const Eigen::Isometry3d& T_pred,

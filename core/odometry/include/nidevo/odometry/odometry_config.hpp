@@ -6,6 +6,7 @@
 #include "nidevo/odometry/depth_alignment.hpp"
 #include "nidevo/odometry/depth_shift.hpp"
 #include "nidevo/odometry/plane_tracking.hpp"
+#include "nidevo/odometry/plane_yaw.hpp"
 
 namespace nidevo {
 
@@ -46,6 +47,21 @@ struct OdometryConfig {
   int rotation_keyframe_interval = 5;
   float rotation_keyframe_min_overlap = 0.065f;  // fraction; authors: 5000 px at 320x240
   float rotation_keyframe_max_angle = 0.15f;     // rad
+  // One plane: the turn about its normal measured from the directions of the grey gradients on
+  // the plane (plane_yaw.hpp) where they tell it, instead of left to the prediction. Off: it
+  // mends fast one-plane turns on the suite but costs the real clip (docs/accuracy.md "The turn
+  // about one plane's normal from the grey values").
+  bool one_plane_image_yaw = false;
+  int plane_yaw_bins = 120;                // over the full turn
+  int plane_yaw_smooth_radius = 7;         // binomial smoothing of the grey values, map pixels
+  float plane_yaw_min_gradient = 0.01f;    // grey step per map pixel (grey in [0, 1])
+  float plane_yaw_max_footprint_m = 0.1f;  // a map pixel seeing more of the plane is left out
+  int plane_yaw_min_pixels = 400;
+  float plane_yaw_min_ncc = 0.6f;        // the two histograms' correlation at the turn
+  float plane_yaw_max_turn_rad = 0.35f;  // searched either way
+  // A measured turn smaller than this is taken for the measurement's noise: the prediction's
+  // value stands (on smooth motion it is the more precise).
+  float plane_yaw_min_turn_rad = 0.f;
 
   // Stage 3: orthographic projection, KCC, depth shift (paper Eqs. 3, 9-18).
   int projection_width = 320;
@@ -194,6 +210,7 @@ struct OdometryConfig {
 // The stage modules' parameters, derived from the one config; Odometry builds them once.
 // Plane tracking works on the normal map, of `normal_map_pixels` pixels.
 PlaneTrackingParams planeTrackingParams(const OdometryConfig& config, int normal_map_pixels);
+PlaneYawParams planeYawParams(const OdometryConfig& config);
 // The resolution is the translation keyframe's, set with each new keyframe (0 until then).
 DepthShiftParams depthShiftParams(const OdometryConfig& config);
 AlignmentParams alignmentParams(const OdometryConfig& config);
