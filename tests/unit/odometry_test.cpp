@@ -368,6 +368,28 @@ TEST(Odometry, NoValidDepthIsLostButFiniteAndRecovers) {
   EXPECT_EQ(back.state, TrackingState::kOk);
 }
 
+// A session whose first frames have no depth: the first frame with depth takes the last
+// answer's pose without anything to measure the motion since, so it is not OK; the session's
+// very first frame is (it defines the world).
+TEST(Odometry, TheFirstFrameWithDepthAfterFramesWithoutIsNotOk) {
+  const synth::SyntheticSequence seq(officeConfig(6));
+  Odometry first_has_depth(seq.config().camera, OdometryConfig{});
+  EXPECT_EQ(first_has_depth.track(seq.renderFrame(0)).state, TrackingState::kOk);
+  Odometry odometry(seq.config().camera, OdometryConfig{});
+  RgbdFrame empty = seq.renderFrame(0);
+  std::fill(empty.depth.data.begin(), empty.depth.data.end(), 0.f);
+  EXPECT_EQ(odometry.track(empty).state, TrackingState::kLost);
+  const PoseEstimate p = odometry.track(seq.renderFrame(1));
+  EXPECT_EQ(p.state, TrackingState::kDegraded);
+  EXPECT_STREQ(p.reason,
+               "the first frame with depth after frames without it: the motion since the last "
+               "pose is not measured");
+  EXPECT_TRUE(finitePose(p.T_world_cam));
+  // Later frames are checked against it as usual.
+  for (int k = 2; k < 6; ++k)
+    EXPECT_TRUE(finitePose(odometry.track(seq.renderFrame(k)).T_world_cam));
+}
+
 TEST(Odometry, OnePlaneIsDegradedNotGarbage) {
   const synth::SyntheticSequence seq(officeConfig(1));
   const Camera cam = seq.config().camera;

@@ -76,6 +76,15 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     out->T_world_cam = T_method;
     renewReference(s, T_method, T_method);
     v.motion.update(T_method, true, s.timestamp);
+    // The session's first pose defines the world and is right by definition; after frames
+    // without depth it is the last answer's, and the motion since was never measured.
+    if (v.answered_without_reference) {
+      out->state = TrackingState::kDegraded;
+      out->reason =
+          "the first frame with depth after frames without it: the motion since the last pose "
+          "is not measured";
+      ++v.degraded_frames;
+    }
     return;
   }
   const CheckedPose checked = checkHypotheses(s, T_method, method_problem, translation_measured);
@@ -149,6 +158,7 @@ void Odometry::reportLostWithoutDepth(const FrameState& s, const Isometry3d& T_m
   v.prediction.unverified();
   v.recovering = true;
   v.previous_out_of_step = false;
+  if (!v.has_reference) v.answered_without_reference = true;
 }
 
 Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isometry3d& T_method,

@@ -36,6 +36,9 @@ struct Odometry::VerificationState {
   // direction, or the method's own pose was kept): before that, the prediction is only the
   // assumption that the camera stands still.
   bool motion_measured = false;
+  // A frame before the first with depth was answered (LOST, predicted): the first with depth
+  // then becomes the reference without anything to check the motion since that answer by.
+  bool answered_without_reference = false;
   MotionModel motion;  // of the reported poses; measured: verified
   PredictionRecord prediction;
   DepthAligner aligner;
