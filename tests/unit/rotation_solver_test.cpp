@@ -5,8 +5,6 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "nidevo/odometry/plane_tracking.hpp"
-
 namespace nidevo {
 namespace {
 
@@ -113,26 +111,6 @@ TEST(AngleAboutAxis, MatchesRodrigues) {
     const Vector3d rotated = Eigen::AngleAxisd(a, axis) * v;
     EXPECT_NEAR(angleAboutAxis(axis, rotated, v), a, 1e-9);
   }
-}
-
-}  // namespace
-}  // namespace nidevo
-
-namespace nidevo {
-namespace {
-
-// The one-plane rotation turns the prediction by the angle between a pair's two normals: a pair
-// whose fitted normals disagree by more than its pixels' normals could is not one plane.
-TEST(PairAgreesUnder, AcceptsOnePlaneAndRejectsTwoDifferentOnes) {
-  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  PlanePair same{Eigen::Vector3f(0, 0, -1),
-                 (turn.transpose() * Eigen::Vector3d(0, 0, -1)).cast<float>(), 500};
-  EXPECT_TRUE(pairAgreesUnder(same, turn, 0.9f));
-  EXPECT_FALSE(pairAgreesUnder(same, Eigen::Matrix3d::Identity(), 0.999f));  // 5.7 deg apart
-  const PlanePair crossed{Eigen::Vector3f(0, 0, -1), Eigen::Vector3f(0, -1, 0), 500};  // 90 deg
-  EXPECT_FALSE(pairAgreesUnder(crossed, Eigen::Matrix3d::Identity(), 0.9f));
-  const PlanePair flipped{Eigen::Vector3f(0, 0, -1), Eigen::Vector3f(0, 0, 1), 500};
-  EXPECT_FALSE(pairAgreesUnder(flipped, Eigen::Matrix3d::Identity(), 0.9f));
 }
 
 }  // namespace

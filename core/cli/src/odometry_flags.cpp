@@ -79,6 +79,11 @@ ABSL_FLAG(bool, prediction_settles_ties, kDefaults.prediction_settles_ties,
 ABSL_FLAG(bool, start_requires_measured_motion, kDefaults.start_requires_measured_motion,
           "Until a frame measured the motion without the prediction, a pose resting on it is not "
           "OK");
+ABSL_FLAG(bool, unseen_reference_needs_measured_rotation,
+          kDefaults.unseen_reference_needs_measured_rotation,
+          "With the reference out of view of every hypothesis, the method's pose is kept only if "
+          "two planes measured its rotation or it agrees with the prediction (else the "
+          "prediction's)");
 ABSL_FLAG(int, recovery_min_depth_directions, kDefaults.recovery_min_depth_directions,
           "After a LOST frame, until the prediction is right again, OK needs depth to fix this "
           "many of the 6 directions (0: never)");
@@ -180,6 +185,8 @@ OdometryConfig odometryConfigFromFlags() {
   c.kcc_prior_ratio = float(absl::GetFlag(FLAGS_kcc_prior_ratio));
   c.prediction_settles_ties = absl::GetFlag(FLAGS_prediction_settles_ties);
   c.start_requires_measured_motion = absl::GetFlag(FLAGS_start_requires_measured_motion);
+  c.unseen_reference_needs_measured_rotation =
+      absl::GetFlag(FLAGS_unseen_reference_needs_measured_rotation);
   c.recovery_min_depth_directions = absl::GetFlag(FLAGS_recovery_min_depth_directions);
   c.kcc_ridge_cells = absl::GetFlag(FLAGS_kcc_ridge_cells);
   c.kcc_ridge_ratio = float(absl::GetFlag(FLAGS_kcc_ridge_ratio));

@@ -276,8 +276,7 @@ void Odometry::matchRotationKeyframe(const Matrix3d& R_pred, FrameState* s) {
     R_key_cur = solution->rotation;
     s->planes_used = solution->planes_used;
     s->rotation_source = RotationSource::kPlanes;
-  } else if (!r.tracked.planes.empty() &&
-             pairAgreesUnder(r.tracked.planes.front(), R_key_pred, config_.overlap_dot)) {
+  } else if (!r.tracked.planes.empty()) {
     const PlanePair& p = r.tracked.planes.front();
     R_key_cur =
         minimalRotation(R_key_pred * p.cur.cast<double>(), p.key.cast<double>()) * R_key_pred;

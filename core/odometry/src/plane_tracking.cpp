@@ -154,10 +154,6 @@ void PlaneTracker::warpPixels(const NormalMap& cur, size_t count, const PlaneWar
   }
 }
 
-bool pairAgreesUnder(const PlanePair& pair, const Eigen::Matrix3d& R_key_cur, float min_dot) {
-  return (R_key_cur * pair.cur.cast<double>()).dot(pair.key.cast<double>()) >= double(min_dot);
-}
-
 void PlaneTracker::track(const NormalMap& key, const NormalMap& cur, const PlaneTrackingParams& p,
                          PlaneTrackingResult* out, const PlaneWarp* warp) {
   const int W = key.width, H = key.height;

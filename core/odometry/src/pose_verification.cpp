@@ -207,9 +207,14 @@ Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isome
   if (c.best.overlapFraction() < config_.verify_min_overlap) {
     // No hypothesis keeps the reference in view (a fast turn away from it): the check measured
     // nothing, and the method's pose, from its own keyframes, is the better guess than an
-    // extrapolation. Unverified, it is not OK.
-    c.best.T_ref_cur = hypotheses[0];
-    c.hypothesis = names[0];
+    // extrapolation, where its rotation was measured (two planes) or agrees with the prediction:
+    // one plane's correction of the prediction can pair two different planes (a fit through a
+    // strip of points) and turn the camera by the angle between them. Unverified, it is not OK.
+    const bool keep_method = !config_.unseen_reference_needs_measured_rotation ||
+                             rotation_measured || !farApart(hypotheses[0], predicted, config_);
+    const int guess = keep_method ? 0 : 1;
+    c.best.T_ref_cur = hypotheses[guess];
+    c.hypothesis = names[guess];
   }
   c.origin = {c.hypothesis == names[0], rotation_measured, translation_measured};
   return c;

@@ -202,6 +202,11 @@ struct OdometryConfig {
   // the start the prediction is only "standing still" (docs/accuracy.md "The start: no motion
   // measured yet").
   bool start_requires_measured_motion = true;
+  // When no hypothesis keeps the reference in view, the method's unverified pose is kept only
+  // where its rotation was measured (two planes) or agrees with the prediction; else the
+  // prediction's (one plane's correction can pair two different planes; docs/accuracy.md "One
+  // plane whose fitted normals disagree").
+  bool unseen_reference_needs_measured_rotation = true;
 
   // Empty when valid, else a message naming the bad field.
   [[nodiscard]] std::string validate() const;

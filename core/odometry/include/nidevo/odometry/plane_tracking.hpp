@@ -17,11 +17,6 @@ struct PlanePair {
   int pixels = 0;
 };
 
-// The pair's normals, R_key_cur applied to the current one, at least min_dot aligned: what its
-// member pixels' normals had to be (overlap_dot). A fit that is not (points along a strip fit
-// any plane through it) would turn the camera by the angle between two different planes.
-bool pairAgreesUnder(const PlanePair& pair, const Eigen::Matrix3d& R_key_cur, float min_dot);
-
 enum class PlaneNormalEstimator {
   kMedian,    // per-component median of the smoothed normals (the paper)
   kPlaneFit,  // least-squares plane through the member pixels' 3-D points (PCA)
