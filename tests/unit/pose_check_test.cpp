@@ -120,6 +120,30 @@ TEST_F(ChooseHypothesisTest, AConfirmedWeakDirectionCountsAsFixedNearThePredicti
   EXPECT_FALSE(directionsTrusted(a, still_, roll_predicted, config_));
 }
 
+TEST_F(ChooseHypothesisTest, WithTheOptionGreyFixedDirectionsCountOnlyWhereTheGreyValuesAgree) {
+  // One plane: depth fixes 3 directions, the grey values 2 more, the sixth is confirmed; on a
+  // texture too weak for the NCC to be asked, an NCC of 0.28 passes the check but fixes nothing.
+  const HypothesisOrigin last_pose{false, false, false};
+  OdometryConfig on = config_;
+  on.grey_fixed_needs_ncc = true;
+  AlignmentResult a = passing(shifted(0.005), 950, 3);
+  a.constrained = 5;
+  a.confirmed = 1;
+  a.ref_intensity_std = 0.02;
+  a.ncc = 0.28;
+  ASSERT_TRUE(judgeAlignment(a, config_).passed);
+  EXPECT_FALSE(directionsTrusted(a, still_, last_pose, on));
+  a.ncc = 0.6;
+  EXPECT_TRUE(directionsTrusted(a, still_, last_pose, on));
+  // Depth alone fixing what it fixes needs no grey agreement; off (the default), the grey
+  // values' fixes count whatever their NCC.
+  a.ncc = 0.28;
+  a.depth_constrained = 5;
+  EXPECT_TRUE(directionsTrusted(a, still_, last_pose, on));
+  a.depth_constrained = 3;
+  EXPECT_TRUE(directionsTrusted(a, still_, last_pose, config_));
+}
+
 Isometry3d turned(double deg) {
   Isometry3d T = Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();

@@ -84,6 +84,9 @@ ABSL_FLAG(bool, unseen_reference_needs_measured_rotation,
           "With the reference out of view of every hypothesis, the method's pose is kept only if "
           "two planes measured its rotation or it agrees with the prediction (else the "
           "prediction's)");
+ABSL_FLAG(bool, grey_fixed_needs_ncc, kDefaults.grey_fixed_needs_ncc,
+          "A direction only the grey values fixed counts as fixed only when their NCC with the "
+          "pose is at least --verify_min_ncc");
 ABSL_FLAG(int, recovery_min_depth_directions, kDefaults.recovery_min_depth_directions,
           "After a LOST frame, until the prediction is right again, OK needs depth to fix this "
           "many of the 6 directions (0: never)");
@@ -185,6 +188,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.kcc_prior_ratio = float(absl::GetFlag(FLAGS_kcc_prior_ratio));
   c.prediction_settles_ties = absl::GetFlag(FLAGS_prediction_settles_ties);
   c.start_requires_measured_motion = absl::GetFlag(FLAGS_start_requires_measured_motion);
+  c.grey_fixed_needs_ncc = absl::GetFlag(FLAGS_grey_fixed_needs_ncc);
   c.unseen_reference_needs_measured_rotation =
       absl::GetFlag(FLAGS_unseen_reference_needs_measured_rotation);
   c.recovery_min_depth_directions = absl::GetFlag(FLAGS_recovery_min_depth_directions);

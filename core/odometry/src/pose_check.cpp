@@ -43,7 +43,10 @@ bool directionsTrusted(const AlignmentResult& best, const Eigen::Isometry3d& T_r
                        const HypothesisOrigin& origin, const OdometryConfig& c) {
   if (best.depth_constrained == 6) return true;
   if (farApart(best.T_ref_cur, T_ref_predicted, c)) return false;
-  if (best.constrained + best.confirmed == 6) return true;
+  const bool grey_fixed_some = best.constrained > best.depth_constrained;
+  const bool grey_fixes_count =
+      !grey_fixed_some || !c.grey_fixed_needs_ncc || best.ncc >= c.verify_min_ncc;
+  if (best.constrained + best.confirmed == 6 && grey_fixes_count) return true;
   return origin.from_method && (!best.free_rotation || origin.rotation_measured) &&
          (!best.free_translation || origin.translation_measured);
 }
