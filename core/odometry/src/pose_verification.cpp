@@ -78,6 +78,7 @@ void Odometry::verifyPose(const FrameState& s, const Isometry3d& T_method,
     v.motion.update(T_method, true, s.timestamp);
     // The session's first pose defines the world and is right by definition; after frames
     // without depth it is the last answer's, and the motion since was never measured.
+    v.previous_without_depth = false;
     if (v.answered_without_reference) {
       out->state = TrackingState::kDegraded;
       out->reason =
@@ -159,6 +160,7 @@ void Odometry::reportLostWithoutDepth(const FrameState& s, const Isometry3d& T_m
   v.recovering = true;
   v.previous_out_of_step = false;
   if (!v.has_reference) v.answered_without_reference = true;
+  v.previous_without_depth = true;
 }
 
 Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isometry3d& T_method,
@@ -283,6 +285,15 @@ void Odometry::applyLateStatusRules(const CheckedPose& c, const LateEvidence& la
         "is not verified";
   }
   v.previous_out_of_step = out_of_step;
+  // Likewise after a frame without depth: this pose is checked against the reference, but the
+  // last answer was only predicted, and the motion since it corrects that prediction.
+  if (out->state == TrackingState::kOk && v.previous_without_depth) {
+    out->state = TrackingState::kDegraded;
+    out->reason =
+        "the last frame had no depth (its pose was predicted): the motion since it is not "
+        "measured";
+  }
+  v.previous_without_depth = false;
   // Likewise: OK rested on a direction the check did not fix (confirmed by a small would-be step,
   // or the method's value), yet the grey values fit the pose moved a silent failure's distance
   // along it as well.

@@ -39,6 +39,9 @@ struct Odometry::VerificationState {
   // A frame before the first with depth was answered (LOST, predicted): the first with depth
   // then becomes the reference without anything to check the motion since that answer by.
   bool answered_without_reference = false;
+  // The last frame had no depth: its pose was the prediction's, so the motion since it, what a
+  // frame-to-frame error and a client's velocity read, carries that prediction's error.
+  bool previous_without_depth = false;
   MotionModel motion;  // of the reported poses; measured: verified
   PredictionRecord prediction;
   DepthAligner aligner;
