@@ -69,22 +69,24 @@ void writeFramesCsv(const std::string& path, const std::vector<nidevo::PoseEstim
       "hypothesis,"
       "inlier_fraction,overlap_fraction,residual_rms_m,ncc,constrained,depth_constrained,confirmed,"
       "predicted,grey_depth_gap_deg,grey_depth_gap_m,sigma_rotation_deg,sigma_translation_m,"
-      "normal_noise_deg,depth_eigenvalues,rotation_error_deg,translation_error_m\n");
+      "normal_noise_deg,depth_eigenvalues,eigenvalues,rotation_error_deg,translation_error_m\n");
   for (size_t i = 0; i < poses.size(); ++i) {
     const auto& p = poses[i];
     const auto& v = p.verification;
-    std::fprintf(f,
-                 "%llu,%.6f,%s,\"%s\",%s,%d,%.2f,%d,%.3f,%.3f,%s,%.4f,%.4f,%.5f,%.4f,%d,%d,%d,%d,%."
-                 "4f,%.5f,%.5f,%.6f,%.3f,\"%.5f;%.5f;%.5f;%.5f;%.5f;%.5f\",",
-                 (unsigned long long)p.frame_index, p.timestamp, nidevo::toString(p.state),
-                 p.reason, nidevo::toString(p.rotation_source), p.planes_used, p.psr,
-                 p.kcc_rival_peaks, p.kcc_ridge_u, p.kcc_ridge_v, v.hypothesis, v.inlier_fraction,
-                 v.overlap_fraction, v.residual_rms_m, v.ncc, v.constrained_directions,
-                 v.depth_constrained_directions, v.confirmed_directions,
-                 int(v.predicted_directions), v.grey_depth_gap_deg, v.grey_depth_gap_m,
-                 v.sigma_rotation_deg, v.sigma_translation_m, v.normal_noise_deg,
-                 v.depth_eigenvalues[0], v.depth_eigenvalues[1], v.depth_eigenvalues[2],
-                 v.depth_eigenvalues[3], v.depth_eigenvalues[4], v.depth_eigenvalues[5]);
+    std::fprintf(
+        f,
+        "%llu,%.6f,%s,\"%s\",%s,%d,%.2f,%d,%.3f,%.3f,%s,%.4f,%.4f,%.5f,%.4f,%d,%d,%d,%d,%."
+        "4f,%.5f,%.5f,%.6f,%.3f,\"%.5f;%.5f;%.5f;%.5f;%.5f;%.5f\",\"%.5f;%.5f;%.5f;%.5f;%.5f;%."
+        "5f\",",
+        (unsigned long long)p.frame_index, p.timestamp, nidevo::toString(p.state), p.reason,
+        nidevo::toString(p.rotation_source), p.planes_used, p.psr, p.kcc_rival_peaks, p.kcc_ridge_u,
+        p.kcc_ridge_v, v.hypothesis, v.inlier_fraction, v.overlap_fraction, v.residual_rms_m, v.ncc,
+        v.constrained_directions, v.depth_constrained_directions, v.confirmed_directions,
+        int(v.predicted_directions), v.grey_depth_gap_deg, v.grey_depth_gap_m, v.sigma_rotation_deg,
+        v.sigma_translation_m, v.normal_noise_deg, v.depth_eigenvalues[0], v.depth_eigenvalues[1],
+        v.depth_eigenvalues[2], v.depth_eigenvalues[3], v.depth_eigenvalues[4],
+        v.depth_eigenvalues[5], v.eigenvalues[0], v.eigenvalues[1], v.eigenvalues[2],
+        v.eigenvalues[3], v.eigenvalues[4], v.eigenvalues[5]);
     if (i < errors.size() && errors[i].judged)
       std::fprintf(f, "%.4f,%.5f\n", errors[i].rotation_deg, errors[i].translation_m);
     else

@@ -473,6 +473,14 @@ TEST_F(DepthAlignmentTest, DepthEigenvaluesAreReportedAscendingAndCountTheFixedD
   EXPECT_GT(a.depth_eigenvalues[5], 0.0);
   EXPECT_EQ(a.depth_constrained,
             int((a.depth_eigenvalues.array() >= double(config_.align_min_eigenvalue)).count()));
+  // The last step solved depth and grey values together: adding the grey rows' positive
+  // semidefinite system lifts every ordered eigenvalue (Weyl), and those reaching the bound are
+  // the directions fixed.
+  ASSERT_GT(config_.align_photometric_weight, 0.f);
+  for (int k = 0; k < 6; ++k) EXPECT_GE(a.eigenvalues[k], a.depth_eigenvalues[k] * (1 - 1e-9));
+  for (int k = 1; k < 6; ++k) EXPECT_LE(a.eigenvalues[k - 1], a.eigenvalues[k]);
+  EXPECT_EQ(a.constrained,
+            int((a.eigenvalues.array() >= double(config_.align_min_eigenvalue)).count()));
 }
 
 // A wall fixes depth, tilt and pan; bold stripes across y fix y and the roll; fine faint ones

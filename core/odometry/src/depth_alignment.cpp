@@ -397,6 +397,7 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
       res.sigma_rotation_rad = std::sqrt(cov.topLeftCorner<3, 3>().trace()) / depth_scale;
       res.sigma_translation_m = std::sqrt(cov.bottomRightCorner<3, 3>().trace());
     }
+    res.eigenvalues = eig.eigenvalues();
     // What depth alone fixes at this pose, whatever the grey values add.
     res.depth_eigenvalues =
         photometric ? Eigen6(H_depth, Eigen::EigenvaluesOnly).eigenvalues() : eig.eigenvalues();

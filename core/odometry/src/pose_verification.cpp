@@ -33,6 +33,7 @@ PoseVerification summary(const AlignmentResult& a, const char* hypothesis, bool 
   v.sigma_translation_m = a.sigma_translation_m;
   v.normal_noise_deg = std::sqrt(a.normal_noise_var) * 180.0 / M_PI;
   v.depth_eigenvalues = a.depth_eigenvalues;
+  v.eigenvalues = a.eigenvalues;
   return v;
 }
 

@@ -132,6 +132,9 @@ struct AlignmentResult {
   double sigma_translation_m = 0;
   // Depth's own normalised Hessian at the last step: its eigenvalues, ascending.
   Eigen::Matrix<double, 6, 1> depth_eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();
+  // The system the last step solved (depth, with the grey values when they took part): its
+  // eigenvalues, ascending; `constrained` counts those that reach min_eigenvalue.
+  Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();
   // The current normals' noise: the variance of one of a normal's two components across the
   // surface, estimated as a quarter of the mean squared difference between the inliers' current
   // normals and their warped reference normals (two draws of the same noise, two components

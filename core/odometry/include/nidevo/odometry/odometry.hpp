@@ -57,6 +57,8 @@ struct PoseVerification {
   double normal_noise_deg = 0;     // root of AlignmentResult::normal_noise_var, in degrees
   Eigen::Matrix<double, 6, 1> depth_eigenvalues =
       Eigen::Matrix<double, 6, 1>::Zero();  // AlignmentResult::depth_eigenvalues
+  Eigen::Matrix<double, 6, 1> eigenvalues =
+      Eigen::Matrix<double, 6, 1>::Zero();  // AlignmentResult::eigenvalues
   // OK although a direction was left free: its value is the motion prediction's, which matched
   // the recent verified frames (OdometryConfig::prediction_trust_frames).
   bool predicted_directions = false;
