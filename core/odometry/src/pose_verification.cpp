@@ -266,82 +266,66 @@ void Odometry::updateMotion(const FrameState& s, const CheckedPose& c, const Iso
 void Odometry::applyLateStatusRules(const CheckedPose& c, const LateEvidence& late,
                                     PoseEstimate* out) {
   VerificationState& v = *verify_;
+  // Each rule only demotes an OK frame, keeping the first reason that applied.
+  const auto demoteWhen = [out](bool rule_applies, const char* reason) {
+    if (out->state != TrackingState::kOk || !rule_applies) return;
+    out->state = TrackingState::kDegraded;
+    out->reason = reason;
+  };
   // Last, so that it changes no pose: the pose stands as the best fit of both sensors, which
   // measured motions too far apart for it to be called right.
   const bool out_of_step = outOfStep(c.best, config_);
-  if (out->state == TrackingState::kOk && out_of_step) {
-    out->state = TrackingState::kDegraded;
-    out->reason =
-        "depth and grey values disagree on the rotation (colour and depth out of step, "
-        "motion blur?)";
-  }
+  demoteWhen(out_of_step,
+             "depth and grey values disagree on the rotation (colour and depth out of step, "
+             "motion blur?)");
   // Likewise: the last frame's own sensors did not agree on its pose, so the motion since it,
   // what a frame-to-frame error and a client's velocity read, carries that pose's error whatever
   // this frame's check says (docs/accuracy.md, "The real clip played backwards, and the frame
   // after one out of step").
-  if (out->state == TrackingState::kOk && v.previous_out_of_step) {
-    out->state = TrackingState::kDegraded;
-    out->reason =
-        "the last frame's depth and grey values disagreed on the rotation: the motion since it "
-        "is not verified";
-  }
+  demoteWhen(
+      v.previous_out_of_step,
+      "the last frame's depth and grey values disagreed on the rotation: the motion since it "
+      "is not verified");
   v.previous_out_of_step = out_of_step;
   // Likewise after a frame without depth: this pose is checked against the reference, but the
   // last answer was only predicted, and the motion since it corrects that prediction.
-  if (out->state == TrackingState::kOk && v.previous_without_depth) {
-    out->state = TrackingState::kDegraded;
-    out->reason =
-        "the last frame had no depth (its pose was predicted): the motion since it is not "
-        "measured";
-  }
+  demoteWhen(v.previous_without_depth,
+             "the last frame had no depth (its pose was predicted): the motion since it is not "
+             "measured");
   v.previous_without_depth = false;
   // Likewise: OK rested on a direction the check did not fix (confirmed by a small would-be step,
   // or the method's value), yet the grey values fit the pose moved a silent failure's distance
   // along it as well.
-  if (out->state == TrackingState::kOk && late.weak_direction_untold) {
-    out->state = TrackingState::kDegraded;
-    out->reason =
-        "a direction the check did not fix: the grey values fit the pose moved along it "
-        "(align_confirm_shift_m) as well";
-  }
+  demoteWhen(late.weak_direction_untold,
+             "a direction the check did not fix: the grey values fit the pose moved along it "
+             "(align_confirm_shift_m) as well");
   // Likewise: a direction only the grey values fixed, that they cannot tell from the pose moved
   // along it with the rest fitted again (stripes along themselves).
-  if (out->state == TrackingState::kOk && late.grey_fixed_untold) {
-    out->state = TrackingState::kDegraded;
-    out->reason =
-        "a direction only the grey values fixed: they fit the pose moved along it "
-        "(align_confirm_shift_m) as well";
-  }
+  demoteWhen(late.grey_fixed_untold,
+             "a direction only the grey values fixed: they fit the pose moved along it "
+             "(align_confirm_shift_m) as well");
   // Likewise: the check's own spread, from the sensor noise alone, reaches beyond what OK promises.
   const double k = config_.verify_max_spread_sigmas;
-  if (out->state == TrackingState::kOk && k > 0 &&
-      (k * out->verification.sigma_rotation_deg * M_PI / 180 > config_.prediction_trust_rad ||
-       k * out->verification.sigma_translation_m > config_.prediction_trust_m)) {
-    out->state = TrackingState::kDegraded;
-    out->reason = "the pose's spread from the sensor noise is wider than OK allows";
-  }
+  demoteWhen(k > 0 && (k * out->verification.sigma_rotation_deg * M_PI / 180 >
+                           config_.prediction_trust_rad ||
+                       k * out->verification.sigma_translation_m > config_.prediction_trust_m),
+             "the pose's spread from the sensor noise is wider than OK allows");
   // Likewise: at the start no motion has been measured yet, so "near the prediction" is near
   // standing still, an assumption; a pose that rests on it along what depth leaves free is not
   // verified (a sequence that starts fast over one plane).
   const bool independent = c.origin.from_method || c.best.depth_constrained == 6;
-  if (out->state == TrackingState::kOk && !v.motion_measured && !independent &&
-      config_.start_requires_measured_motion) {
-    out->state = TrackingState::kDegraded;
-    out->reason =
-        "the start: no motion measured yet, and depth leaves a direction to the assumption that "
-        "the camera stands still";
-  }
+  demoteWhen(
+      !v.motion_measured && !independent && config_.start_requires_measured_motion,
+      "the start: no motion measured yet, and depth leaves a direction to the assumption that "
+      "the camera stands still");
   // Likewise last: back from LOST, the check's minimum was found from hypotheses the lost stretch
   // left far off, where a wrong minimum can fit both sensors; until the prediction has been right
   // again, only depth fixing every direction says the pose is right.
   if (v.recovering && v.prediction.reliable(config_)) v.recovering = false;
-  if (out->state == TrackingState::kOk && v.recovering &&
-      c.best.depth_constrained < config_.recovery_min_depth_directions) {
-    out->state = TrackingState::kDegraded;
-    out->reason =
-        "recovering from LOST: depth leaves a direction free and the motion prediction has not "
-        "been right again yet";
-  }
+  demoteWhen(
+      v.recovering && c.best.depth_constrained < config_.recovery_min_depth_directions,
+      "recovering from LOST: depth leaves a direction free and the motion prediction has not "
+      "been right again yet");
   if (out->state == TrackingState::kOk && independent) v.motion_measured = true;
 }
 
