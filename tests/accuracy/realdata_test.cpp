@@ -93,15 +93,21 @@ TEST(RealData, TumFr1RpyTwiceAndThreeTimesAsFastNoWorseThanTheRecordedBaseline) 
   EXPECT_GE(twice.counts[0], 95);
   EXPECT_EQ(twice.counts[0] + twice.counts[1] + twice.counts[2], 125);
   const RealRun thrice = runClip(folder, 3);
-  EXPECT_LE(thrice.ate_rmse, 0.095);
+  // 0.0934 m until coarse to fine's gate grew with its levels' pixels (align_coarse_gate_growth),
+  // which took frame 18's error from 10.5 to 1.4 deg and changed no other frame's by more than
+  // 0.1 deg, for all that moved the ATE to 0.0979 m (the old error had offset drift elsewhere):
+  // the largest frame error is the sharper guard (docs/accuracy.md, "Coarse to fine with a gate
+  // that grows with the level").
+  EXPECT_LE(thrice.ate_rmse, 0.100);
+  EXPECT_LT(thrice.rpe_rotation_max_deg, 7.0);
   EXPECT_EQ(thrice.silent.count, 0);
   EXPECT_GE(thrice.counts[0], 49);
   EXPECT_EQ(thrice.counts[0] + thrice.counts[1] + thrice.counts[2], 84);
 }
 
 // The same recording played backwards (scripts/reverse_tum.py: the frames in reverse order, time
-// mirrored), as recorded and twice as fast: other frame pairs, every motion reversed, and no
-// setting chosen on them. Bounds: the best peer's ATE on the same frames (OpenCV
+// mirrored), as recorded, twice and three times as fast: other frame pairs, every motion reversed,
+// and no setting chosen on them. Bounds: the best peer's ATE on the same frames (OpenCV
 // RgbdICPOdometry 0.0458 m as recorded, RgbdOdometry 0.0620 m twice as fast; `nidevo-bench
 // --scenes "" --datasets build/tum_fr1_rpy_reversed --frame_step N`) and no silent failure, the
 // figures of the commit that added the test (0.0436 m and 0.0457 m; 219 and 85 frames OK).
@@ -116,6 +122,7 @@ TEST(RealData, TumFr1RpyPlayedBackwardsNoWorseThanTheBestPeer) {
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   const RealRun once = runClip(reversed.string());
   const RealRun twice = runClip(reversed.string(), 2);
+  const RealRun thrice = runClip(reversed.string(), 3);
   std::filesystem::remove_all(reversed);
   EXPECT_LE(once.ate_rmse, 0.0458);
   EXPECT_EQ(once.silent.count, 0);
@@ -123,6 +130,12 @@ TEST(RealData, TumFr1RpyPlayedBackwardsNoWorseThanTheBestPeer) {
   EXPECT_LE(twice.ate_rmse, 0.0620);
   EXPECT_EQ(twice.silent.count, 0);
   EXPECT_GE(twice.counts[0], 85);
+  // Three times as fast: 0.1947 m until coarse to fine's gate grew with its levels' pixels, then
+  // 0.0750 m with 61 frames OK (the best peer, RgbdICPOdometry: 0.0650 m). Its one silent failure
+  // (frame 49, 2.1 deg) is open (docs/accuracy.md).
+  EXPECT_LE(thrice.ate_rmse, 0.080);
+  EXPECT_LE(thrice.silent.count, 1);
+  EXPECT_GE(thrice.counts[0], 61);
 }
 
 }  // namespace

@@ -661,5 +661,35 @@ TEST_F(DepthAlignmentTest, CoarseToFineReachesAMoveThatOneLevelTakesForTheNextPe
   }
 }
 
+// A fast turn, 12 and 14 deg between the frames, from standing still: with the fine gate (8 cm)
+// on every level the start keeps too few points to reach it (6-8 deg off, failing the check);
+// with the gate growing with the coarse levels' pixels, coarse to fine lands on it.
+TEST_F(DepthAlignmentTest, CoarseToFineWithAGrowingGateReachesAFastTurn) {
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  AlignmentPyramid pyramid;
+  pyramid.reserve(config_.align_coarse_levels, map_camera);
+  const AlignmentParams growing = alignmentParams(config_);
+  ASSERT_EQ(growing.coarse_gate_growth, 2.f);
+  AlignmentParams fixed_gate = growing;
+  fixed_gate.coarse_gate_growth = 1;
+  for (const double angle_deg : {12.0, 14.0}) {
+    const Isometry3d truth = motion(angle_deg * M_PI / 180, {0.2, 1, 0.1}, {0.02, 0.01, 0.01});
+    const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
+    AlignmentTarget target;
+    buildAlignmentTarget(cur.map, cur.intensity, &target);
+    pyramid.build(target);
+    const Isometry3d start = Isometry3d::Identity();
+    const AlignmentResult fixed =
+        aligner_.alignCoarseToFine(sample_, target, map_camera, pyramid, start, fixed_gate);
+    const AlignmentResult grown =
+        aligner_.alignCoarseToFine(sample_, target, map_camera, pyramid, start, growing);
+    EXPECT_GT(angleDeg(truth.inverse() * fixed.T_ref_cur), 3.0) << angle_deg;
+    EXPECT_FALSE(judgeAlignment(fixed, config_).passed) << angle_deg;
+    EXPECT_LT(angleDeg(truth.inverse() * grown.T_ref_cur), 0.05) << angle_deg;
+    EXPECT_LT((truth.inverse() * grown.T_ref_cur).translation().norm(), 0.002) << angle_deg;
+    EXPECT_TRUE(judgeAlignment(grown, config_).passed) << angle_deg;
+  }
+}
+
 }  // namespace
 }  // namespace nidevo

@@ -514,6 +514,9 @@ TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
   bad.align_coarse_levels = 4;
   EXPECT_NE(bad.validate().find("align_coarse_levels"), std::string::npos);
   bad = OdometryConfig{};
+  bad.align_coarse_gate_growth = 0.5f;  // a coarse level must not gate tighter than the fine one
+  EXPECT_NE(bad.validate().find("align_coarse_gate_growth"), std::string::npos);
+  bad = OdometryConfig{};
   bad.plane_pixel_step = 0;
   EXPECT_NE(bad.validate().find("plane_pixel_step"), std::string::npos);
   bad = OdometryConfig{};

@@ -131,6 +131,9 @@ ABSL_FLAG(int, align_polish_iterations, kDefaults.align_polish_iterations,
 ABSL_FLAG(int, align_coarse_levels, kDefaults.align_coarse_levels,
           "When no hypothesis passes the pose check, the prediction aligned coarse to fine from "
           "the frame halved this many times (0: never)");
+ABSL_FLAG(double, align_coarse_gate_growth, shortestDecimal(kDefaults.align_coarse_gate_growth),
+          "Coarse to fine: the association gate on a level halved k times is "
+          "--align_max_distance times this to the power k (1: the same on every level)");
 ABSL_FLAG(int, verify_sample_step, kDefaults.verify_sample_step,
           "Check every n-th smooth normal-map pixel of the reference");
 ABSL_FLAG(double, verify_min_inliers, shortestDecimal(kDefaults.verify_min_inliers),
@@ -209,6 +212,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.align_photometric_weight = float(absl::GetFlag(FLAGS_align_photometric_weight));
   c.align_polish_iterations = absl::GetFlag(FLAGS_align_polish_iterations);
   c.align_coarse_levels = absl::GetFlag(FLAGS_align_coarse_levels);
+  c.align_coarse_gate_growth = float(absl::GetFlag(FLAGS_align_coarse_gate_growth));
   c.align_confirm_eigenvalue = float(absl::GetFlag(FLAGS_align_confirm_eigenvalue));
   c.align_confirm_step_m = float(absl::GetFlag(FLAGS_align_confirm_step));
   c.align_confirm_shift_m = float(absl::GetFlag(FLAGS_align_confirm_shift));

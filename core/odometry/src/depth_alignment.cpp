@@ -489,8 +489,11 @@ AlignmentResult DepthAligner::alignCoarseToFine(
     const SurfaceSample& ref, const AlignmentTarget& cur, const Camera& map_camera,
     const AlignmentPyramid& pyramid, const Isometry3d& T_ref_cur, const AlignmentParams& prm) {
   Isometry3d T = T_ref_cur;
-  for (size_t k = pyramid.level.size(); k-- > 0;)
-    T = align(ref, pyramid.level[k], pyramid.camera[k], T, prm).T_ref_cur;
+  for (size_t k = pyramid.level.size(); k-- > 0;) {
+    AlignmentParams level_prm = prm;
+    level_prm.max_distance_m = prm.max_distance_m * std::pow(prm.coarse_gate_growth, float(k + 1));
+    T = align(ref, pyramid.level[k], pyramid.camera[k], T, level_prm).T_ref_cur;
+  }
   return align(ref, cur, map_camera, T, prm);
 }
 

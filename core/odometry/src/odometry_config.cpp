@@ -98,6 +98,7 @@ std::string OdometryConfig::validate() const {
     return "align_polish_iterations must be in 0..50";
   if (align_coarse_levels < 0 || align_coarse_levels > 3)
     return "align_coarse_levels must be in 0..3";
+  if (!in(align_coarse_gate_growth, 1, 4)) return "align_coarse_gate_growth must be in [1, 4]";
   if (!in(verify_min_inliers, 0, 1)) return "verify_min_inliers must be in [0, 1]";
   if (!in(verify_min_overlap, 0, 1)) return "verify_min_overlap must be in [0, 1]";
   if (!in(verify_max_rms_m, 0, 10)) return "verify_max_rms_m must be in [0, 10]";
@@ -160,6 +161,7 @@ AlignmentParams alignmentParams(const OdometryConfig& c) {
   p.inlier_m = c.align_inlier_m;
   p.inlier_per_m = c.align_inlier_per_m;
   p.normal_dot = c.align_normal_dot;
+  p.coarse_gate_growth = c.align_coarse_gate_growth;
   p.min_eigenvalue = c.align_min_eigenvalue;
   p.step_eigenvalue = c.align_step_eigenvalue;
   p.step_inlier_slack = c.align_step_inlier_slack;

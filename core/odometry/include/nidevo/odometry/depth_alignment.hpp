@@ -72,6 +72,9 @@ struct AlignmentParams {
   float inlier_m = 0.02f;        // a residual below this (plus inlier_per_m * depth) is an inlier
   float inlier_per_m = 0.01f;    // depth noise grows with range
   float normal_dot = 0.8f;       // warped reference normal and current normal at least this aligned
+  // alignCoarseToFine: the gate on a level halved k times is max_distance_m times this to the
+  // power k (1: the same gate on every level).
+  float coarse_gate_growth = 2.0f;
   // Grey-value residuals join the point-to-plane ones with this factor (metres per grey unit of
   // [0, 1]), so that texture fixes what the geometry leaves free; 0: geometry only.
   float photometric_weight = 0.1f;
@@ -172,7 +175,9 @@ class DepthAligner {
                                             const AlignmentParams& params);
   // From T_ref_cur, aligned on the pyramid's coarsest level first, then on each finer one, then
   // on `cur` itself (the pyramid built from it): a wider reach than one level's, for a motion
-  // that left the hypothesis outside the data's basin at full resolution.
+  // that left the hypothesis outside the data's basin at full resolution. The coarse levels'
+  // association gate grows with their pixel size (AlignmentParams::coarse_gate_growth): with
+  // the fine gate a start a fast turn left 10 deg off keeps too few points to move.
   AlignmentResult alignCoarseToFine(const SurfaceSample& ref, const AlignmentTarget& cur,
                                     const Camera& map_camera, const AlignmentPyramid& pyramid,
                                     const Eigen::Isometry3d& T_ref_cur,

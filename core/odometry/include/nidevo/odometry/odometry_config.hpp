@@ -136,6 +136,9 @@ struct OdometryConfig {
   // halved this many times first, then on each finer level (a wider reach than one level's, for
   // a motion that left every hypothesis outside the data's basin). 0: none.
   int align_coarse_levels = 2;
+  // The association gate (align_max_distance_m) on a level halved k times, times this to the
+  // power k: it grows with the level's pixel (1: the fine gate everywhere).
+  float align_coarse_gate_growth = 2.0f;
   float verify_min_inliers = 0.7f;  // of the associated points
   float verify_min_overlap = 0.3f;  // of the sample landing on the current surface
   float verify_max_rms_m = 0.03f;
