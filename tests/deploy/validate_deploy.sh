@@ -32,6 +32,10 @@ for name in ("nidevo", "loadtest"):
     assert "nidevo_tokens" in sources, f"{name} does not get the secret nidevo_tokens"
     assert service["environment"]["NIDEVO_TOKEN_FILE"] == "/run/secrets/nidevo_tokens", name
 print("ok: server and load tester read /run/secrets/nidevo_tokens")
+sessions = config["services"]["nidevo"]["environment"].get("NIDEVO_MAX_SESSIONS")
+assert sessions is not None and 1 <= int(sessions) <= 16, f"compose NIDEVO_MAX_SESSIONS {sessions}"
+open(sys.argv[1] + ".sessions", "w").write(str(int(sessions)))
+print(f"ok: compose admits {sessions} sessions")
 PY
 
 echo "== promtool check config"
@@ -53,7 +57,7 @@ for dir in "$deploy/k8s/base" "$deploy/k8s/overlays/prometheus-operator"; do
 done
 # Facts the deployment guide relies on.
 kubectl kustomize "$deploy/k8s/base" 2>/dev/null > "$work/base.yaml"
-/usr/bin/python3 - "$work/base.yaml" <<'PY' || fail "deployment invariants"
+/usr/bin/python3 - "$work/base.yaml" "$work/compose.yaml.sessions" <<'PY' || fail "deployment invariants"
 import re, sys
 text = open(sys.argv[1]).read()
 grace = int(re.search(r"terminationGracePeriodSeconds: (\d+)", text).group(1))
@@ -70,6 +74,13 @@ assert token_file == mount.group(1) + "/tokens", f"{token_file} is not the Secre
 assert re.search(r"name: tokens\n\s+secret:\n\s+secretName: nidevo-tokens", text), \
     "the tokens volume must come from the Secret nidevo-tokens"
 print(f"ok: grace {grace} s > preStop {pre_stop} s + drain {drain} s")
+# The session limit is the measured capacity, not the server's default (32), and the compose
+# stack's is the same.
+sessions = re.search(r"NIDEVO_MAX_SESSIONS: \"(\d+)\"", text)
+assert sessions, "the ConfigMap must set NIDEVO_MAX_SESSIONS (the server's default is 32)"
+compose = open(sys.argv[2]).read().strip()
+assert sessions.group(1) == compose, f"ConfigMap {sessions.group(1)} sessions, compose {compose}"
+print(f"ok: {sessions.group(1)} sessions per pod, as in compose")
 PY
 
 echo "== Grafana dashboard against a live /metrics"
