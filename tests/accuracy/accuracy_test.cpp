@@ -130,7 +130,9 @@ TEST(Accuracy, HallWithTheFloorAsTheOnlyLargePlaneIsTrackedRoundItsObjects) {
   const SequenceRun r = track(render(config));
   EXPECT_LE(r.ate_rmse, 0.03);
   EXPECT_EQ(r.counts[int(TrackingState::kLost)], 0);
-  EXPECT_GE(r.counts[int(TrackingState::kOk)], 285);  // 95 %
+  // 95 % until two hypotheses that fit alike further apart than OK allows were not OK: one frame
+  // fewer (docs/accuracy.md "Hypotheses that stay apart").
+  EXPECT_GE(r.counts[int(TrackingState::kOk)], 284);
   EXPECT_EQ(r.silent_failures, 0);
 }
 
@@ -175,9 +177,11 @@ TEST(Accuracy, FewerThanTwoPlanesIsFlaggedAndTrackingRecovers) {
 TEST(Accuracy, ADirectionLeftToARecentlyRightPredictionIsOkAndRight) {
   const RenderedSequence gap = render("gap", TextureRichness::kRich, SensorNoise::kIclLike);
   // A DEGRADED pose is refined along its weak directions, an OK one is not: off in both runs, so
-  // that the rule's own effect is what differs.
+  // that the rule's own effect is what differs; so is the rule for hypotheses that stay apart,
+  // which may demote a frame whatever the prediction says.
   OdometryConfig with_rule;
   with_rule.align_step_eigenvalue = 0;
+  with_rule.ok_needs_hypotheses_to_agree = false;
   const SequenceRun r = track(gap, with_rule);
   OdometryConfig never = with_rule;
   never.prediction_trust_frames = 0;

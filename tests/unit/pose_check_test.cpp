@@ -206,6 +206,37 @@ TEST(WithinPredictionTrust, BoundsRotationAndTranslationApart) {
   EXPECT_FALSE(withinPredictionTrust(turned(1.0), turned(1.31), c));
 }
 
+// A plane without texture: refined from the method's pose and from standing still, both fit
+// alike and each stays near its start, 3 cm apart along the plane.
+TEST(TieBeyondOkBounds, FitsAlikeFurtherApartThanOkAllowsAreATie) {
+  const OdometryConfig c;
+  const AlignmentResult results[] = {passing(shifted(0.03), 950, 3), passing(shifted(0), 948, 3)};
+  const CheckVerdict both_pass[] = {{true, ""}, {true, ""}};
+  EXPECT_TRUE(tieBeyondOkBounds(results, both_pass, 2, 0, c));
+  EXPECT_TRUE(tieBeyondOkBounds(results, both_pass, 2, 1, c));
+  // A failing hypothesis is no rival, however it scored.
+  const CheckVerdict one_fails[] = {{true, ""}, {false, "pose failed verification"}};
+  EXPECT_FALSE(tieBeyondOkBounds(results, one_fails, 2, 0, c));
+  // The one hypothesis tried has no rival.
+  EXPECT_FALSE(tieBeyondOkBounds(results, both_pass, 1, 0, c));
+}
+
+TEST(TieBeyondOkBounds, AgreeingPosesOrAClearlyBetterFitAreNoTie) {
+  const OdometryConfig c;
+  const CheckVerdict both_pass[] = {{true, ""}, {true, ""}};
+  // Converged to one pose from both starts, within what OK promises (1.5 cm).
+  const AlignmentResult agreeing[] = {passing(shifted(0.010), 950, 3),
+                                      passing(shifted(0.002), 948, 3)};
+  EXPECT_FALSE(tieBeyondOkBounds(agreeing, both_pass, 2, 0, c));
+  // The data told them apart: 5 % more points agree with the kept pose (the tie is 2 %).
+  const AlignmentResult told[] = {passing(shifted(0.03), 1000, 3), passing(shifted(0), 950, 3)};
+  EXPECT_FALSE(tieBeyondOkBounds(told, both_pass, 2, 0, c));
+  // A turn apart counts like a shift: 0.5 deg is over the 0.3 deg OK promises.
+  const AlignmentResult turned_apart[] = {passing(turned(0.5), 950, 3),
+                                          passing(turned(0.0), 949, 3)};
+  EXPECT_TRUE(tieBeyondOkBounds(turned_apart, both_pass, 2, 0, c));
+}
+
 // A free direction translating along a ridge axis is the KCC's unmeasured value; one turning, or
 // translating across the axis, is not.
 TEST(FreeAlongKccRidge, OnlyTranslationAlongARidgeAxisCounts) {

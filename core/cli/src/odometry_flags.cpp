@@ -76,6 +76,9 @@ ABSL_FLAG(double, kcc_prior_ratio, shortestDecimal(kDefaults.kcc_prior_ratio),
 
 ABSL_FLAG(bool, prediction_settles_ties, kDefaults.prediction_settles_ties,
           "A periodic pattern's tie settled by a motion prediction right on recent frames is OK");
+ABSL_FLAG(bool, ok_needs_hypotheses_to_agree, kDefaults.ok_needs_hypotheses_to_agree,
+          "A frame where another hypothesis fit alike yet ended further away than OK allows "
+          "(--prediction_trust_*) is DEGRADED, its pose unchanged");
 ABSL_FLAG(bool, start_requires_measured_motion, kDefaults.start_requires_measured_motion,
           "Until a frame measured the motion without the prediction, a pose resting on it is not "
           "OK");
@@ -190,6 +193,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.psr_bound = float(absl::GetFlag(FLAGS_psr_bound));
   c.kcc_prior_ratio = float(absl::GetFlag(FLAGS_kcc_prior_ratio));
   c.prediction_settles_ties = absl::GetFlag(FLAGS_prediction_settles_ties);
+  c.ok_needs_hypotheses_to_agree = absl::GetFlag(FLAGS_ok_needs_hypotheses_to_agree);
   c.start_requires_measured_motion = absl::GetFlag(FLAGS_start_requires_measured_motion);
   c.grey_fixed_needs_ncc = absl::GetFlag(FLAGS_grey_fixed_needs_ncc);
   c.unseen_reference_needs_measured_rotation =

@@ -144,6 +144,19 @@ HypothesisChoice chooseHypothesis(const AlignmentResult* results, const CheckVer
   return choice;
 }
 
+bool tieBeyondOkBounds(const AlignmentResult* results, const CheckVerdict* verdicts, int count,
+                       int chosen, const OdometryConfig& c) {
+  const double chosen_score = alignmentScore(results[chosen], c);
+  for (int h = 0; h < count; ++h) {
+    if (h == chosen || !verdicts[h].passed) continue;
+    const double score = alignmentScore(results[h], c);
+    if (std::abs(score - chosen_score) <= c.hypothesis_tie * std::max(score, chosen_score) &&
+        !withinPredictionTrust(results[h].T_ref_cur, results[chosen].T_ref_cur, c))
+      return true;
+  }
+  return false;
+}
+
 StatusDecision decideStatus(const StatusEvidence& e, const OdometryConfig& c) {
   StatusDecision d;
   const auto degraded = [&d](const char* reason) {

@@ -207,6 +207,7 @@ Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isome
   c.verdict = verdicts[c.choice.index];
   c.hypothesis = names[c.choice.index];
   c.T_ref_predicted = predicted;
+  c.tie_beyond_ok_bounds = tieBeyondOkBounds(results, verdicts, tried, c.choice.index, config_);
   if (c.best.overlapFraction() < config_.verify_min_overlap) {
     // No hypothesis keeps the reference in view (a fast turn away from it): the check measured
     // nothing, and the method's pose, from its own keyframes, is the better guess than an
@@ -304,6 +305,10 @@ void Odometry::applyLateStatusRules(const CheckedPose& c, const LateEvidence& la
   demoteWhen(late.grey_fixed_untold,
              "a direction only the grey values fixed: they fit the pose moved along it "
              "(align_confirm_shift_m) as well");
+  // Likewise: another start ended as good a fit further away than OK allows.
+  demoteWhen(config_.ok_needs_hypotheses_to_agree && c.tie_beyond_ok_bounds,
+             "two hypotheses fit alike yet ended further apart than OK allows: the data do not fix "
+             "the pose that closely");
   // Likewise: the check's own spread, from the sensor noise alone, reaches beyond what OK promises.
   const double k = config_.verify_max_spread_sigmas;
   demoteWhen(k > 0 && (k * out->verification.sigma_rotation_deg * M_PI / 180 >

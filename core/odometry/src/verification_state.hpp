@@ -58,6 +58,7 @@ struct Odometry::CheckedPose {
   // which: "method", "prediction", "last pose" or "prediction coarse to fine"
   const char* hypothesis = "method";
   Eigen::Isometry3d T_ref_predicted = Eigen::Isometry3d::Identity();
+  bool tie_beyond_ok_bounds = false;  // tieBeyondOkBounds among the hypotheses tried
 };
 
 }  // namespace nidevo

@@ -187,6 +187,12 @@ struct OdometryConfig {
   // The same trusted prediction also settles a periodic pattern's tie (two poses fit alike, or a
   // better fit far away rests on grey values alone) when the pose kept lies within its bounds.
   bool prediction_settles_ties = true;
+  // On: an OK frame where another hypothesis passed with a fit within hypothesis_tie of the
+  // kept one's, yet ended further from it than OK promises (prediction_trust_rad and _m), is
+  // DEGRADED, its pose unchanged: from different starts the data scored both alike, so they did
+  // not fix the pose that closely (a plane without texture leaves each start where it was).
+  // docs/accuracy.md "Hypotheses that stay apart".
+  bool ok_needs_hypotheses_to_agree = true;
   // A pose not verified still measures the motion along what depth fixed: when it passed the
   // check from the prediction's hypothesis with at least this many of its 6 directions fixed by
   // depth, it updates the motion model's velocity. Along the rest it holds the prediction's own

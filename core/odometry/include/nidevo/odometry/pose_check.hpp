@@ -92,6 +92,12 @@ HypothesisChoice chooseHypothesis(const AlignmentResult* results, const CheckVer
                                   const Eigen::Isometry3d& T_ref_predicted,
                                   const OdometryConfig& c);
 
+// Whether a passing hypothesis other than `chosen` fits within hypothesis_tie of it (the
+// alignment score) yet ends further from it than OK promises (withinPredictionTrust): the data
+// could not tell the two poses apart, and they differ by more than an OK pose may be off.
+bool tieBeyondOkBounds(const AlignmentResult* results, const CheckVerdict* verdicts, int count,
+                       int chosen, const OdometryConfig& c);
+
 // What the check found for a frame, as the status rules read it.
 struct StatusEvidence {
   const AlignmentResult* best = nullptr;  // the chosen hypothesis' alignment
