@@ -29,6 +29,12 @@ struct RenderedSequence {
   Trajectory ground_truth;
 };
 
+// The upper median (of an even count, the larger middle value).
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
 // The first `first_frames` frames only (0: all); the ground truth whole.
 RenderedSequence render(const synth::SequenceConfig& config, int first_frames = 0) {
   RenderedSequence r;
@@ -259,10 +265,6 @@ TEST(Accuracy, HypothesesThatFitAlikeFarApartAreNotOkAndTheyAreTheWrongOnes) {
   }
   ASSERT_GE(demoted_m.size(), 20u);
   ASSERT_FALSE(ok_m.empty());
-  const auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
   // Measured: 35 frames demoted, 2.96 cm against the OK frames' 0.79 cm at the median.
   EXPECT_GT(median(demoted_m), 2 * median(ok_m));
   EXPECT_LE(r.silent_failures, without.silent_failures);
@@ -387,10 +389,6 @@ TEST(Accuracy, UnverifiedFramesThatDepthFixesKeepTheMotionModelMoving) {
     rotation_without.push_back(without.errors[i].rotation_deg);
   }
   ASSERT_GE(rotation_with.size(), 10u);
-  auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
   EXPECT_LT(median(rotation_with), median(rotation_without));
   EXPECT_LT(with_rule.ate_rmse, without.ate_rmse);
 }
