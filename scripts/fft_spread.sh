@@ -27,7 +27,7 @@ if [ -z "$datasets" ]; then
 fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-# One run's figures as "ATE OK SILENT" (ATE empty without ground truth).
+# One run's figures as "ATE OK SILENT" (NA for the ATE and SILENT without ground truth).
 figures() {
   awk '/^tracking:/ {ok=$2}
        /^APE/ {ape=1} ape && $1=="rmse" {ate=$2; ape=0}
@@ -36,13 +36,13 @@ figures() {
 }
 printf '%-32s %5s %-27s %-9s %-9s %s\n' sequence runs "ATE m: min median max" "OK" silent \
   "ESTIMATE: ATE OK silent"
+rows="$work/rows.txt"
 IFS=, read -ra entries <<<"$datasets"
 for entry in "${entries[@]}"; do
   dir=${entry%:*}
   step=1
   [ "$dir" != "$entry" ] && step=${entry##*:}
   [ -d "$dir" ] || { echo "fft_spread.sh: $dir not found" >&2; exit 2; }
-  rows="$work/rows.txt"
   : >"$rows"
   for i in $(seq 0 "$runs"); do
     plan=()
