@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   const bool same_floats =
       config.align_confirm_eigenvalue == d.align_confirm_eigenvalue &&
       config.align_confirm_step_m == d.align_confirm_step_m &&
-      config.align_converged_m == d.align_converged_m &&
+      config.align_converged_m == d.align_converged_m && config.align_join_m == d.align_join_m &&
       config.align_min_eigenvalue == d.align_min_eigenvalue &&
       config.align_photometric_weight == d.align_photometric_weight &&
       config.kcc_label_sigma == d.kcc_label_sigma && config.kcc_prior_ratio == d.kcc_prior_ratio &&

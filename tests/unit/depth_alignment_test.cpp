@@ -116,6 +116,61 @@ TEST_F(DepthAlignmentTest, ASmallStepEndsTheRefinementWhereRunningOnGainsNothing
   EXPECT_LT(angleDeg(apart), 0.01);
 }
 
+// Two starts in one basin: the second refinement stops where it reaches the first one's pose,
+// with that result, and in fewer steps than refined to its own end.
+TEST_F(DepthAlignmentTest, ARefinementThatReachesAnEarlierResultEndsWithIt) {
+  const Isometry3d truth = motion(0.035, {0.3, 1, 0.2}, {0.04, -0.02, 0.03});
+  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
+  AlignmentTarget target;
+  buildAlignmentTarget(cur.map, cur.intensity, &target);
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  AlignmentParams p = alignmentParams(config_);
+  p.join_m = 1e-3f;
+  const AlignmentResult first =
+      aligner_.align(sample_, target, map_camera, Isometry3d::Identity(), p);
+  ASSERT_EQ(first.joined, -1);
+  ASSERT_LT((truth.inverse() * first.T_ref_cur).translation().norm(), 0.003);
+  const AlignmentResult* earlier[] = {&first};
+  const Isometry3d second_start = truth * motion(0.01, {1, 0, 0}, {0.02, 0.01, 0});
+  const AlignmentResult alone = aligner_.align(sample_, target, map_camera, second_start, p);
+  const AlignmentResult joined =
+      aligner_.align(sample_, target, map_camera, second_start, p, earlier, 1);
+  EXPECT_EQ(joined.joined, 0);
+  EXPECT_TRUE(joined.T_ref_cur.isApprox(first.T_ref_cur, 0));
+  EXPECT_EQ(joined.inliers, first.inliers);
+  // Refined alone it ends at the same minimum, within the join distance.
+  const Isometry3d apart = alone.T_ref_cur.inverse() * first.T_ref_cur;
+  EXPECT_LT(apart.translation().norm(), p.join_m);
+  EXPECT_GT(alone.steps, 2);
+}
+
+// An earlier result elsewhere (here planted 5 cm off the minimum) is not joined: the refinement
+// runs to its own end, as without it.
+TEST_F(DepthAlignmentTest, ARefinementThatNeverReachesAnEarlierResultIsItsOwn) {
+  const Isometry3d truth = motion(0.035, {0.3, 1, 0.2}, {0.04, -0.02, 0.03});
+  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
+  AlignmentTarget target;
+  buildAlignmentTarget(cur.map, cur.intensity, &target);
+  const Camera map_camera = camera_.subsampled(config_.normal_stride);
+  AlignmentParams p = alignmentParams(config_);
+  p.join_m = 1e-3f;
+  AlignmentResult elsewhere;
+  elsewhere.T_ref_cur = truth * motion(0, {1, 0, 0}, {0.05, 0, 0});
+  const AlignmentResult* earlier[] = {&elsewhere};
+  const AlignmentResult alone =
+      aligner_.align(sample_, target, map_camera, Isometry3d::Identity(), p);
+  const AlignmentResult with =
+      aligner_.align(sample_, target, map_camera, Isometry3d::Identity(), p, earlier, 1);
+  EXPECT_EQ(with.joined, -1);
+  EXPECT_TRUE(with.T_ref_cur.isApprox(alone.T_ref_cur, 0));
+  EXPECT_EQ(with.steps, alone.steps);
+  // And with joining off, even the earlier result's own pose is refined from.
+  AlignmentParams off = p;
+  off.join_m = 0;
+  const AlignmentResult* same[] = {&alone};
+  EXPECT_EQ(aligner_.align(sample_, target, map_camera, alone.T_ref_cur, off, same, 1).joined, -1);
+}
+
 TEST_F(DepthAlignmentTest, APlantedTenDegreeRotationErrorFailsTheCheck) {
   const Isometry3d truth = motion(0.02, {0, 1, 0}, {0.02, 0, 0.01});
   for (const Eigen::Vector3d& axis :

@@ -496,6 +496,9 @@ TEST(Odometry, RejectsFramesOfTheWrongSizeAndBadConfigs) {
   bad.align_converged_m = -1e-4f;
   EXPECT_NE(bad.validate().find("align_converged_m"), std::string::npos);
   bad = OdometryConfig{};
+  bad.align_join_m = 0.5f;
+  EXPECT_NE(bad.validate().find("align_join_m"), std::string::npos);
+  bad = OdometryConfig{};
   bad.align_step_eigenvalue = -1e-3f;
   EXPECT_NE(bad.validate().find("align_step_eigenvalue"), std::string::npos);
   bad = OdometryConfig{};

@@ -104,6 +104,9 @@ ABSL_FLAG(int, align_iterations, kDefaults.align_iterations,
           "only checked)");
 ABSL_FLAG(double, align_converged, shortestDecimal(kDefaults.align_converged_m),
           "Pose check: a refinement step moving the surface less than this (m) ends it");
+ABSL_FLAG(double, align_join, shortestDecimal(kDefaults.align_join_m),
+          "Pose check: a fallback hypothesis whose refinement comes within this (m) of one that "
+          "passed ends there with its result (0: each refined to its end)");
 ABSL_FLAG(double, align_min_eigenvalue, shortestDecimal(kDefaults.align_min_eigenvalue),
           "Directions the geometry constrains less than this keep the hypothesis' value");
 ABSL_FLAG(double, align_photometric_weight, shortestDecimal(kDefaults.align_photometric_weight),
@@ -210,6 +213,7 @@ OdometryConfig odometryConfigFromFlags() {
   c.plane_yaw_min_turn_rad = float(absl::GetFlag(FLAGS_plane_yaw_min_turn_deg) * M_PI / 180);
   c.align_iterations = absl::GetFlag(FLAGS_align_iterations);
   c.align_converged_m = float(absl::GetFlag(FLAGS_align_converged));
+  c.align_join_m = float(absl::GetFlag(FLAGS_align_join));
   c.align_min_eigenvalue = float(absl::GetFlag(FLAGS_align_min_eigenvalue));
   c.align_step_eigenvalue = float(absl::GetFlag(FLAGS_align_step_eigenvalue));
   c.align_step_inlier_slack = float(absl::GetFlag(FLAGS_align_step_inlier_slack));

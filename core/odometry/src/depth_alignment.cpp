@@ -328,6 +328,18 @@ void AlignmentPyramid::build(const AlignmentTarget& fine) {
     halveAlignmentTarget(k ? level[k - 1] : fine, &level[k]);
 }
 
+bool DepthAligner::reachedEarlier(const Isometry3d& T_cur_ref, double depth_scale, double join_m) {
+  for (int k = 0; k < join_count_; ++k) {
+    const Isometry3d apart = T_cur_ref * join_[k]->T_ref_cur;
+    if (apart.translation().norm() < join_m &&
+        Eigen::AngleAxisd(apart.linear()).angle() * depth_scale < join_m) {
+      joined_ = k;
+      return true;
+    }
+  }
+  return false;
+}
+
 void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& cur,
                                const Camera& map_camera, const AlignmentParams& prm,
                                double depth_scale, bool photometric, int iterations,
@@ -412,6 +424,7 @@ void DepthAligner::gaussNewton(const SurfaceSample& ref, const AlignmentTarget& 
     ++res.steps;
     T_cur_ref.linear() = Eigen::Quaterniond(T_cur_ref.linear()).normalized().toRotationMatrix();
     if (converged) return;
+    if (join_count_ > 0 && reachedEarlier(T_cur_ref, depth_scale, prm.join_m)) return;
   }
 }
 
@@ -458,6 +471,22 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const NormalMap& c
 
 AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTarget& cur,
                                     const Camera& map_camera, const Isometry3d& T_ref_cur,
+                                    const AlignmentParams& prm,
+                                    const AlignmentResult* const* earlier, int earlier_count) {
+  join_ = earlier;
+  join_count_ = prm.join_m > 0 ? earlier_count : 0;
+  joined_ = -1;
+  AlignmentResult res = align(ref, cur, map_camera, T_ref_cur, prm);
+  if (joined_ >= 0) {
+    res = *earlier[joined_];
+    res.joined = joined_;
+  }
+  join_count_ = 0;
+  return res;
+}
+
+AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTarget& cur,
+                                    const Camera& map_camera, const Isometry3d& T_ref_cur,
                                     const AlignmentParams& prm) {
   AlignmentResult res;
   Isometry3d T_cur_ref = T_ref_cur.inverse();
@@ -470,6 +499,7 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTar
   // polish the pose in a few steps (a real sensor's depth is biased and noisy).
   gaussNewton(ref, cur, map_camera, prm, depth_scale, false, prm.iterations, &T_cur_ref, nullptr,
               &res);
+  if (joined_ >= 0) return res;
   if (prm.photometric_weight > 0) {
     const int steps =
         res.constrained < 6 ? prm.iterations : std::min(prm.polish_iterations, prm.iterations);
@@ -477,6 +507,7 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTar
     const bool depth_fixed_all = res.constrained == 6;
     if (steps > 0)
       gaussNewton(ref, cur, map_camera, prm, depth_scale, true, steps, &T_cur_ref, nullptr, &res);
+    if (joined_ >= 0) return res;
     if (depth_fixed_all && prm.grey_depth_gap_rad > 0)
       measureGreyDepthGap(ref, cur, map_camera, prm, depth_scale, T_depth, T_cur_ref, &res);
   }

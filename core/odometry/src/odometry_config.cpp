@@ -81,6 +81,7 @@ std::string OdometryConfig::validate() const {
     return "verify_sample_step must be in 1..32";
   if (align_iterations < 0 || align_iterations > 50) return "align_iterations must be in 0..50";
   if (!in(align_converged_m, 0, 0.01)) return "align_converged_m must be in [0, 0.01]";
+  if (!in(align_join_m, 0, 0.01)) return "align_join_m must be in [0, 0.01]";
   if (!in(align_max_distance_m, 1e-4, 10)) return "align_max_distance_m must be in [1e-4, 10]";
   if (!in(align_inlier_m, 1e-5, 10)) return "align_inlier_m must be in [1e-5, 10]";
   if (!in(align_inlier_per_m, 0, 1)) return "align_inlier_per_m must be in [0, 1]";
@@ -157,6 +158,7 @@ AlignmentParams alignmentParams(const OdometryConfig& c) {
   AlignmentParams p;
   p.iterations = c.align_iterations;
   p.converged_m = c.align_converged_m;
+  p.join_m = c.align_join_m;
   p.max_distance_m = c.align_max_distance_m;
   p.inlier_m = c.align_inlier_m;
   p.inlier_per_m = c.align_inlier_per_m;

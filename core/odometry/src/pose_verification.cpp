@@ -179,10 +179,15 @@ Odometry::CheckedPose Odometry::checkHypotheses(const FrameState& s, const Isome
   AlignmentResult results[kHypotheses];
   CheckVerdict verdicts[kHypotheses];
   int tried = 0;
+  // A later hypothesis that reaches a passing one's pose ends there (AlignmentParams::join_m).
+  const AlignmentResult* passed[kHypotheses];
+  int passed_count = 0;
   buildAlignmentTarget(s.normals, s.map_intensity, &v.target);
   for (int h = 0; h < 3; ++h) {
-    results[h] = v.aligner.align(v.reference, v.target, v.map_camera, hypotheses[h], v.params);
+    results[h] = v.aligner.align(v.reference, v.target, v.map_camera, hypotheses[h], v.params,
+                                 passed, passed_count);
     verdicts[h] = judgeAlignment(results[h], config_);
+    if (verdicts[h].passed) passed[passed_count++] = &results[h];
     tried = h + 1;
     // The common path: the method's pose passes, unhurt, near the prediction.
     if (h == 0 && verdicts[0].passed && method_problem == nullptr &&

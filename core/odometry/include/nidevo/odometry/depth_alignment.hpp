@@ -72,6 +72,10 @@ struct AlignmentParams {
   float inlier_m = 0.02f;        // a residual below this (plus inlier_per_m * depth) is an inlier
   float inlier_per_m = 0.01f;    // depth noise grows with range
   float normal_dot = 0.8f;       // warped reference normal and current normal at least this aligned
+  // A refinement that comes within this of an earlier hypothesis' refined pose (rotation as
+  // metres at the mean depth, and translation) ends there with that result: both are in one
+  // basin, and its remaining steps would only jitter about the same minimum. 0: never.
+  float join_m = 0.0f;
   // alignCoarseToFine: the gate on a level halved k times is max_distance_m times this to the
   // power k (1: the same gate on every level).
   float coarse_gate_growth = 2.0f;
@@ -121,6 +125,9 @@ struct AlignmentResult {
   Eigen::Matrix<double, 6, 6> weak_axes = Eigen::Matrix<double, 6, 6>::Zero();
   int weak_count = 0;
   int steps = 0;  // Gauss-Newton steps taken, depth and grey-value passes
+  // Of align with earlier results: the index of the one this refinement reached (whose result
+  // this is), or -1.
+  int joined = -1;
   // Where depth alone fixed all six directions, how far apart the poses lie that depth alone and
   // grey values alone fit best (rotation in rad, translation in m; grey values stepped from the
   // polished pose to their optimum): 0 when the sensors agree, more when they measured
@@ -159,6 +166,13 @@ class DepthAligner {
   AlignmentResult align(const SurfaceSample& ref, const AlignmentTarget& cur,
                         const Camera& map_camera, const Eigen::Isometry3d& T_ref_cur,
                         const AlignmentParams& params);
+  // The same, ending as soon as the refinement comes within params.join_m of one of `earlier`
+  // (results of align on the same sample and target): that result is returned, `joined` its
+  // index. On a frame where several hypotheses reach one minimum, the later ones stop there.
+  AlignmentResult align(const SurfaceSample& ref, const AlignmentTarget& cur,
+                        const Camera& map_camera, const Eigen::Isometry3d& T_ref_cur,
+                        const AlignmentParams& params, const AlignmentResult* const* earlier,
+                        int earlier_count);
   // The same, building the target first (for a single hypothesis; several against one frame
   // should share one buildAlignmentTarget).
   AlignmentResult align(const SurfaceSample& ref, const NormalMap& cur,
@@ -206,6 +220,12 @@ class DepthAligner {
   void reserve(size_t points);
 
  private:
+  // The earlier results align is to join (none outside that call), and the one reached.
+  const AlignmentResult* const* join_ = nullptr;
+  int join_count_ = 0;
+  int joined_ = -1;
+  // Whether T_cur_ref lies within join_m of one of join_ (then joined_ is its index).
+  bool reachedEarlier(const Eigen::Isometry3d& T_cur_ref, double depth_scale, double join_m);
   // Which normal equations a pass over the sample fills.
   enum class Rows { kNone, kDepth, kDepthAndGrey, kGrey };
   // One pass over the sample at T_cur_ref: fills the normal equations asked for and the result's

@@ -108,6 +108,12 @@ struct OdometryConfig {
   // A step under this (rotation as metres at the mean depth, and translation) ends the
   // refinement: far under a depth sensor's noise (docs/performance.md measures it).
   float align_converged_m = 1e-4f;
+  // A fallback hypothesis whose refinement comes within this of one that passed ends there with
+  // its result (one basin): fewer passes, but the kept pose is no longer the best-scoring of
+  // several converged ones. Off: at 1 mm the poses moved more than a nudge of the defaults does
+  // (docs/performance.md, "A fallback that reaches a passed hypothesis"). 0: each refined to
+  // its end.
+  float align_join_m = 0.0f;
   float align_max_distance_m = 0.08f;  // association gate
   float align_inlier_m = 0.02f;  // inlier residual, plus align_inlier_per_m per metre of depth
   float align_inlier_per_m = 0.01f;
