@@ -106,6 +106,25 @@ TEST(Allocation, GreyFixedDirectionCheckAllocatesNothing) {
   EXPECT_NEAR(axis.norm(), 1.0, 1e-9);  // it chose a direction and moved the pose along it
 }
 
+// A fallback hypothesis joining an earlier result (--align_join): the result is copied, not built.
+TEST(Allocation, AlignmentJoiningAnEarlierResultAllocatesNothing) {
+  AlignmentPair pair(2);
+  const Camera map_camera = pair.mapCamera();
+  AlignmentParams params = alignmentParams(pair.config);
+  params.join_m = 1e-3f;
+  const Eigen::Isometry3d truth = pair.seq.groundTruth(0).inverse() * pair.seq.groundTruth(2);
+  const AlignmentResult first = pair.aligner.align(pair.sample, pair.target, map_camera,
+                                                   Eigen::Isometry3d::Identity(), params);
+  const AlignmentResult* earlier[] = {&first};
+  allocations = 0;
+  counting = true;
+  const AlignmentResult joined =
+      pair.aligner.align(pair.sample, pair.target, map_camera, truth, params, earlier, 1);
+  counting = false;
+  EXPECT_EQ(allocations.load(), 0);
+  EXPECT_EQ(joined.joined, 0);  // it joined
+}
+
 // The one-plane turn from the grey values (one_plane_image_yaw): its histograms and smoothing
 // buffers keep their sizes once the estimator has seen a frame.
 TEST(Allocation, PlaneYawAllocatesNothingAfterTheFirstFrame) {
