@@ -50,21 +50,33 @@ class DepthAlignmentTest : public ::testing::Test {
     return aligner_.align(sample_, cur.map, cur.intensity,
                           camera_.subsampled(config_.normal_stride), hypothesis, p);
   }
-  // The current frame rendered at `truth` as the alignment reads it, with every direction
-  // declared too weak to update and any weak direction confirmable.
-  struct AllWeak {
+  // The current frame rendered at `truth` as the alignment reads it, with the config's params.
+  struct Target {
     AlignmentTarget target;
     AlignmentParams params;
     Camera map_camera;
   };
-  AllWeak allWeakAt(const Isometry3d& truth) {
-    AllWeak w;
+  Target targetAt(const Isometry3d& truth) {
+    Target w;
     const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
     buildAlignmentTarget(cur.map, cur.intensity, &w.target);
     w.params = alignmentParams(config_);
+    w.map_camera = camera_.subsampled(config_.normal_stride);
+    return w;
+  }
+  // The same with a fallback joining an earlier result within 1 mm.
+  Target joiningAt(const Isometry3d& truth) {
+    Target w = targetAt(truth);
+    w.params.join_m = 1e-3f;
+    return w;
+  }
+  // The same with every direction declared too weak to update and any weak direction
+  // confirmable.
+  using AllWeak = Target;
+  AllWeak allWeakAt(const Isometry3d& truth) {
+    AllWeak w = targetAt(truth);
     w.params.min_eigenvalue = 1e3f;
     w.params.confirm_eigenvalue = 1e-6f;
-    w.map_camera = camera_.subsampled(config_.normal_stride);
     return w;
   }
   OdometryConfig config_;
@@ -120,21 +132,17 @@ TEST_F(DepthAlignmentTest, ASmallStepEndsTheRefinementWhereRunningOnGainsNothing
 // with that result, and in fewer steps than refined to its own end.
 TEST_F(DepthAlignmentTest, ARefinementThatReachesAnEarlierResultEndsWithIt) {
   const Isometry3d truth = motion(0.035, {0.3, 1, 0.2}, {0.04, -0.02, 0.03});
-  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
-  AlignmentTarget target;
-  buildAlignmentTarget(cur.map, cur.intensity, &target);
-  const Camera map_camera = camera_.subsampled(config_.normal_stride);
-  AlignmentParams p = alignmentParams(config_);
-  p.join_m = 1e-3f;
+  const Target at = joiningAt(truth);
+  const AlignmentParams& p = at.params;
   const AlignmentResult first =
-      aligner_.align(sample_, target, map_camera, Isometry3d::Identity(), p);
+      aligner_.align(sample_, at.target, at.map_camera, Isometry3d::Identity(), p);
   ASSERT_EQ(first.joined, -1);
   ASSERT_LT((truth.inverse() * first.T_ref_cur).translation().norm(), 0.003);
   const AlignmentResult* earlier[] = {&first};
   const Isometry3d second_start = truth * motion(0.01, {1, 0, 0}, {0.02, 0.01, 0});
-  const AlignmentResult alone = aligner_.align(sample_, target, map_camera, second_start, p);
+  const AlignmentResult alone = aligner_.align(sample_, at.target, at.map_camera, second_start, p);
   const AlignmentResult joined =
-      aligner_.align(sample_, target, map_camera, second_start, p, earlier, 1);
+      aligner_.align(sample_, at.target, at.map_camera, second_start, p, earlier, 1);
   EXPECT_EQ(joined.joined, 0);
   EXPECT_TRUE(joined.T_ref_cur.isApprox(first.T_ref_cur, 0));
   EXPECT_EQ(joined.inliers, first.inliers);
@@ -148,19 +156,15 @@ TEST_F(DepthAlignmentTest, ARefinementThatReachesAnEarlierResultEndsWithIt) {
 // runs to its own end, as without it.
 TEST_F(DepthAlignmentTest, ARefinementThatNeverReachesAnEarlierResultIsItsOwn) {
   const Isometry3d truth = motion(0.035, {0.3, 1, 0.2}, {0.04, -0.02, 0.03});
-  const MapFrame cur = mapOf(seq_->renderAt(T0_ * truth, 0.033, 1).frame, camera_, config_);
-  AlignmentTarget target;
-  buildAlignmentTarget(cur.map, cur.intensity, &target);
-  const Camera map_camera = camera_.subsampled(config_.normal_stride);
-  AlignmentParams p = alignmentParams(config_);
-  p.join_m = 1e-3f;
+  const Target at = joiningAt(truth);
+  const AlignmentParams& p = at.params;
   AlignmentResult elsewhere;
   elsewhere.T_ref_cur = truth * motion(0, {1, 0, 0}, {0.05, 0, 0});
   const AlignmentResult* earlier[] = {&elsewhere};
   const AlignmentResult alone =
-      aligner_.align(sample_, target, map_camera, Isometry3d::Identity(), p);
+      aligner_.align(sample_, at.target, at.map_camera, Isometry3d::Identity(), p);
   const AlignmentResult with =
-      aligner_.align(sample_, target, map_camera, Isometry3d::Identity(), p, earlier, 1);
+      aligner_.align(sample_, at.target, at.map_camera, Isometry3d::Identity(), p, earlier, 1);
   EXPECT_EQ(with.joined, -1);
   EXPECT_TRUE(with.T_ref_cur.isApprox(alone.T_ref_cur, 0));
   EXPECT_EQ(with.steps, alone.steps);
@@ -168,7 +172,8 @@ TEST_F(DepthAlignmentTest, ARefinementThatNeverReachesAnEarlierResultIsItsOwn) {
   AlignmentParams off = p;
   off.join_m = 0;
   const AlignmentResult* same[] = {&alone};
-  EXPECT_EQ(aligner_.align(sample_, target, map_camera, alone.T_ref_cur, off, same, 1).joined, -1);
+  EXPECT_EQ(aligner_.align(sample_, at.target, at.map_camera, alone.T_ref_cur, off, same, 1).joined,
+            -1);
 }
 
 TEST_F(DepthAlignmentTest, APlantedTenDegreeRotationErrorFailsTheCheck) {
