@@ -146,6 +146,11 @@ TEST_F(DepthAlignmentTest, ARefinementThatReachesAnEarlierResultEndsWithIt) {
   EXPECT_EQ(joined.joined, 0);
   EXPECT_TRUE(joined.T_ref_cur.isApprox(first.T_ref_cur, 0));
   EXPECT_EQ(joined.inliers, first.inliers);
+  // A plain align after it joins nothing: it refines to its own end, as before.
+  const AlignmentResult again = aligner_.align(sample_, at.target, at.map_camera, second_start, p);
+  EXPECT_EQ(again.joined, -1);
+  EXPECT_TRUE(again.T_ref_cur.isApprox(alone.T_ref_cur, 0));
+  EXPECT_EQ(again.steps, alone.steps);
   // Refined alone it ends at the same minimum, within the join distance.
   const Isometry3d apart = alone.T_ref_cur.inverse() * first.T_ref_cur;
   EXPECT_LT(apart.translation().norm(), p.join_m);

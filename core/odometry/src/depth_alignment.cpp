@@ -481,7 +481,9 @@ AlignmentResult DepthAligner::align(const SurfaceSample& ref, const AlignmentTar
     res = *earlier[joined_];
     res.joined = joined_;
   }
+  // Nothing to join outside this call: a later plain align must run to its own end.
   join_count_ = 0;
+  joined_ = -1;
   return res;
 }
 
